@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages ESD-SLAM needs to build, test and export models.
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends \
+  build-essential cmake pkg-config git \
+  libeigen3-dev libopencv-dev libceres-dev liboctomap-dev \
+  libyaml-cpp-dev libspdlog-dev libfmt-dev libcli11-dev libtbb-dev \
+  libgtest-dev libgmock-dev libbenchmark-dev \
+  python3 python3-numpy python3-torch python3-onnx python3-pil \
+  >/dev/null
+echo "install_deps: done"

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Second README command: the whole test suite.
+#  1. Release build: unit tests and the slow golden runs on ../shared data (label "slow").
+#  2. AddressSanitizer + UndefinedBehaviorSanitizer build: the unit suite (label "unit").
+# Set ESDSLAM_TEST_QUICK=1 to run only the Release unit suite.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+tools/build.sh release
+if [ "${ESDSLAM_TEST_QUICK:-0}" = "1" ]; then
+  ctest --test-dir build -L unit --output-on-failure -j "$(nproc)"
+  exit 0
+fi
+ctest --test-dir build --output-on-failure -j "$(nproc)"
+tools/build.sh asan
+ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build-asan -L unit --output-on-failure -j "$(nproc)"
