@@ -1,0 +1,113 @@
+// `esdslam map`: rebuilds the static dense map (PLY/PCD, OctoMap, PNG views) from a saved
+// trajectory (keyframes.txt or trajectory.txt of a run) and the sequence's images. Dynamic
+// pixels are left out using per-frame masks saved by a run (`--masks DIR`, files
+// <timestamp>.png, nonzero = dynamic); without masks every valid depth pixel is used.
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include <opencv2/imgcodecs.hpp>
+#include <spdlog/spdlog.h>
+
+#include "apps/esdslam/commands.h"
+#include "common/error.h"
+#include "dense/dense_mapper.h"
+#include "dense/dense_settings.h"
+#include "io/settings.h"
+#include "io/settings_table.h"
+#include "io/trajectory_io.h"
+#include "io/tum_sequence.h"
+
+namespace esdslam::cli {
+namespace {
+
+struct MapArgs {
+  std::string settings_path;
+  std::string sequence_dir;
+  std::string trajectory_path;
+  std::string masks_dir;
+  std::string out_dir = "map_out";
+  bool pcd = false;
+  double max_dt = 0.02;
+};
+
+// The frame whose rgb timestamp is nearest to `timestamp`, or nullptr beyond max_dt.
+const FrameEntry* NearestFrame(const std::vector<FrameEntry>& frames, double timestamp, double max_dt) {
+  const auto it = std::lower_bound(frames.begin(), frames.end(), timestamp,
+                                   [](const FrameEntry& f, double t) { return f.timestamp < t; });
+  const FrameEntry* best = nullptr;
+  double best_dt = max_dt;
+  for (auto candidate : {it, it == frames.begin() ? it : std::prev(it)}) {
+    if (candidate == frames.end()) continue;
+    const double dt = std::abs(candidate->timestamp - timestamp);
+    if (dt <= best_dt) {
+      best_dt = dt;
+      best = &*candidate;
+    }
+  }
+  return best;
+}
+
+cv::Mat LoadMask(const std::string& masks_dir, const FrameEntry& frame) {
+  if (masks_dir.empty()) return cv::Mat();
+  const std::string path = fmt::format("{}/{:.6f}.png", masks_dir, frame.timestamp);
+  if (!std::filesystem::exists(path)) throw InputError(path, 0, "no dynamic mask for this keyframe (expected <timestamp>.png)");
+  cv::Mat mask = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  if (mask.empty()) throw InputError(path, 0, "unreadable mask image");
+  return mask;
+}
+
+int RunMap(const MapArgs& args) {
+  Settings settings;
+  DenseOptions dense_options;
+  SettingsTable table;
+  BindCoreSettings(settings, table);
+  BindDenseSettings(dense_options, table);
+  table.Ignore("");  // other stages' keys are not needed here
+  table.Load(args.settings_path);
+  settings.Check();
+  dense_options.Check();
+
+  const TumSequence sequence = TumSequence::Open(args.sequence_dir);
+  const std::vector<StampedPose> poses = ReadTumTrajectory(args.trajectory_path);
+  if (poses.empty()) throw InputError(args.trajectory_path, 0, "trajectory has no poses");
+  DenseMapper mapper(PinholeCamera(settings.camera), dense_options, /*threaded=*/false);
+  std::map<long, Rigid3> world_from_keyframe;
+  long id = 0;
+  for (const StampedPose& pose : poses) {
+    const FrameEntry* frame = NearestFrame(sequence.frames(), pose.timestamp, args.max_dt);
+    if (!frame) {
+      spdlog::warn("map: no frame within {} s of pose {:.6f}; skipped", args.max_dt, pose.timestamp);
+      continue;
+    }
+    const RgbdImages images = LoadRgbd(*frame, settings.depth_map_factor);
+    mapper.AddKeyframe(id, images.bgr, images.depth_m, LoadMask(args.masks_dir, *frame));
+    world_from_keyframe[id++] = pose.world_from_cam;
+    std::fprintf(stderr, "\rmap: %ld/%zu poses", id, poses.size());
+  }
+  std::fprintf(stderr, "\n");
+  DenseOutputFiles files;
+  files.pcd = args.pcd;
+  const DenseOutputSummary summary = WriteDenseOutputs(mapper.map(), world_from_keyframe, args.out_dir, files);
+  std::printf("dense_points %zu\nkeyframes %zu\noctomap_occupied_leaves %zu\nbuild_ms %.1f\n", summary.points,
+              summary.keyframes, summary.occupied_leaves, summary.build_ms);
+  return 0;
+}
+
+RunFn Setup(CLI::App& app) {
+  auto args = std::make_shared<MapArgs>();
+  app.add_option("--settings", args->settings_path, "Settings YAML (ORB-SLAM2 keys plus Dense.*)")->required();
+  app.add_option("--sequence", args->sequence_dir, "Sequence folder in TUM layout")->required();
+  app.add_option("--trajectory", args->trajectory_path, "TUM trajectory whose poses become map keyframes (e.g. keyframes.txt)")
+      ->required();
+  app.add_option("--masks", args->masks_dir, "Folder of dynamic masks <timestamp>.png saved by `esdslam run --dense`");
+  app.add_option("--out", args->out_dir, "Output folder")->capture_default_str();
+  app.add_flag("--pcd", args->pcd, "Also write dense.pcd");
+  app.add_option("--max-dt", args->max_dt, "Max |dt| between a pose and its frame, seconds")->capture_default_str();
+  return [args] { return RunMap(*args); };
+}
+
+const Registrar registrar({"map", "Rebuild the static dense map from a saved trajectory and the sequence", Setup, 40});
+
+}  // namespace
+}  // namespace esdslam::cli

@@ -1,0 +1,18 @@
+#include "dense/dense_settings.h"
+
+namespace esdslam {
+
+void BindDenseSettings(DenseOptions& options, SettingsTable& table) {
+  table.Add("Dense.voxelSize", &options.voxel_size);
+  table.Add("Dense.minDepth", &options.min_depth);
+  table.Add("Dense.maxDepth", &options.max_depth);
+  table.Add("Dense.pixelStride", &options.pixel_stride);
+  table.Add("Dense.maskDilation", &options.mask_dilation_px);
+  table.Add("Dense.outlierRemoval", &options.outlier_removal);
+  table.Add("Dense.outlierNeighbors", &options.outlier_neighbors);
+  table.Add("Dense.outlierStdRatio", &options.outlier_std_ratio);
+  table.Add("Dense.octomapResolution", &options.octomap_resolution);
+  table.Add("Dense.octomapMaxRange", &options.octomap_max_range);
+}
+
+}  // namespace esdslam

@@ -1,0 +1,52 @@
+#pragma once
+// Boundary refinement of person masks by depth region growing (ESD-SLAM, Algorithm 1).
+//
+// Segmentation masks are coarse at object boundaries: they bleed onto the background and miss
+// thin parts. For every connected component of the network mask we take seed pixels inside it
+// (the mask eroded, with valid depth close to the component's median depth) and grow a region
+// over 8-neighbours (explicit stack) while the depth step between neighbours stays below a
+// depth-dependent tolerance, inside the component's bounding box enlarged by a margin. The
+// result follows the person's depth silhouette. Mask pixels without valid depth cannot be
+// decided by depth: they are kept and dilated a little.
+//
+// Depth tolerance between 8-neighbours p -> q (metres):
+//     |z_q - z_p| <= abs_tolerance_m + depth_sq_tolerance * z_p^2
+// The z^2 term follows the structured-light depth noise (sigma ~ 1.5e-3 z^2 for Kinect) and
+// the depth step of a slanted surface between neighbouring pixels (~ z / f * tan(angle)).
+// A person stands >= 0.2 m in front of the background, well above the tolerance up to ~4 m.
+// In addition, a grown pixel must stay within max_depth_from_seed_m of the seeds' median depth,
+// which limits leaks into the floor at the feet to the enlarged box and the person's depth range.
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace esdslam {
+
+struct RegionGrowingOptions {
+  double abs_tolerance_m = 0.03;      // constant part of the neighbour tolerance
+  double depth_sq_tolerance = 0.01;   // 1/m: depth-squared part of the neighbour tolerance
+  double max_depth_from_seed_m = 0.8; // grown pixels stay within this of the seeds' median depth
+  double seed_depth_band_m = 0.4;     // seeds: within this of the component's median depth
+  int seed_erosion_px = 4;            // seeds come from the mask eroded by this radius
+  double box_margin_fraction = 0.15;  // growth box = component box enlarged by this * its size ...
+  int box_margin_px = 8;              // ... plus this many pixels on every side
+  int no_depth_dilation_px = 2;       // dilation of kept mask pixels that have no valid depth
+  int min_component_px = 30;          // smaller mask components are dropped (noise)
+
+  // Throws esdslam::Error on negative or inconsistent values.
+  void Check() const;
+};
+
+// raw_mask: CV_8U, nonzero = person (network output). depth_m: CV_32F metres, 0 = invalid, same
+// size. Returns CV_8U, 255 = dynamic. Throws Error on a type or size mismatch.
+cv::Mat RefineDynamicMask(const cv::Mat& raw_mask, const cv::Mat& depth_m, const RegionGrowingOptions& options);
+
+// The growth step on its own, shared with the geometry check: grows from `seeds` (pixels with
+// valid depth) inside `box` with the neighbour tolerance above, keeping pixels within
+// max_depth_from_seed_m of `reference_depth_m`. Sets grown pixels of `region` (CV_8U, image
+// size) to 255; pixels already 255 are not revisited. Returns the number of pixels added.
+int GrowDepthRegion(const cv::Mat& depth_m, const std::vector<cv::Point>& seeds, const cv::Rect& box,
+                    double reference_depth_m, const RegionGrowingOptions& options, cv::Mat& region);
+
+}  // namespace esdslam

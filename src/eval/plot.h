@@ -1,0 +1,17 @@
+#pragma once
+// Top view (X-Y plane, metres) of a ground-truth and an (aligned) estimated trajectory, with
+// axes, a legend and a metre scale bar. The format follows the extension: .svg (text written
+// directly) or .png (OpenCV drawing).
+
+#include <string>
+#include <vector>
+
+#include "common/geometry.h"
+
+namespace esdslam {
+
+// Throws Error for an unknown extension, no points, or an unwritable file.
+void PlotTrajectoriesXY(const std::vector<Vec3>& groundtruth, const std::vector<Vec3>& estimate,
+                        const std::string& path);
+
+}  // namespace esdslam

@@ -1,0 +1,40 @@
+#pragma once
+// Run settings from a YAML file using ORB-SLAM2's keys (flat dotted keys such as Camera.fx;
+// the OpenCV header line '%YAML:1.0' is accepted). See io/settings_table.h for how the key table
+// works and how a later stage adds its own keys.
+
+#include <string>
+#include <vector>
+
+#include "camera/pinhole_camera.h"
+#include "feature/orb_options.h"
+
+namespace esdslam {
+
+class SettingsTable;
+
+struct Settings {
+  CameraIntrinsics camera;        // Camera.fx/fy/cx/cy (required), k1 k2 p1 p2 k3, width, height
+  double fps = 30;                // Camera.fps
+  double depth_map_factor = 5000; // DepthMapFactor: depth PNG value per metre
+  double th_depth = 40;           // ThDepth: close/far point threshold, in multiples of the baseline
+  double bf = 40;                 // Camera.bf = baseline (m) * fx (px)
+  int rgb_order = 1;              // Camera.RGB: 1 = images are RGB, 0 = BGR
+  OrbOptions orb;                 // ORBextractor.*
+
+  // Throws Error on non-positive fps/factor/bf/th_depth, rgb_order not 0/1, bad camera or ORB.
+  void Check() const;
+};
+
+// Binds every key of `settings` into `table` (the single key table of the core settings).
+void BindCoreSettings(Settings& settings, SettingsTable& table);
+
+// Loads and checks. Unknown keys are warned about (file and line) and, if `warnings` is given,
+// appended to it. Throws InputError for a missing file, YAML syntax errors, a missing required
+// key (names file and key), a wrong type (file and line) and failed checks.
+Settings LoadSettings(const std::string& path, std::vector<std::string>* warnings = nullptr);
+
+// Writes the effective settings in the same key format (loadable by LoadSettings and ORB-SLAM2).
+void SaveSettings(const Settings& settings, const std::string& path);
+
+}  // namespace esdslam

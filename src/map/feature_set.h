@@ -1,0 +1,38 @@
+#pragma once
+// The immutable per-image feature data that a Frame computes once and a KeyFrame keeps: keypoints,
+// descriptors, per-keypoint depth, dynamic flags and a spatial grid. Shared by pointer between a
+// Frame and the KeyFrame made from it (never modified after construction, so no lock is needed).
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "common/geometry.h"
+#include "feature/feature_grid.h"
+#include "map/rgbd_rig.h"
+
+namespace esdslam {
+
+struct FeatureSet {
+  std::shared_ptr<const RgbdRig> rig;
+  std::vector<cv::KeyPoint> keypoints;    // raw (distorted) level-0 px; octave = pyramid level
+  std::vector<cv::Point2f> undistorted;   // undistorted px, same order
+  cv::Mat descriptors;                    // N x 32 CV_8U
+  std::vector<float> depth;               // metres along z at the raw keypoint; <= 0: no depth
+  std::vector<float> right_u;             // virtual right u = u - bf / depth (px); < 0: none
+  std::vector<std::uint8_t> is_dynamic;   // 1: on a moving object, never used for pose or map
+  std::unique_ptr<FeatureGrid> grid;      // over `undistorted`
+
+  int size() const { return static_cast<int>(keypoints.size()); }
+  int level(int i) const { return keypoints[i].octave; }
+  Vec2 pixel(int i) const { return {undistorted[i].x, undistorted[i].y}; }
+  bool has_depth(int i) const { return depth[i] > 0; }
+  bool is_close(int i) const { return depth[i] > 0 && depth[i] < rig->th_depth_m; }
+  const unsigned char* descriptor(int i) const { return descriptors.ptr<unsigned char>(i); }
+  // The keypoint back-projected with its depth, in the camera frame (m). Requires has_depth(i).
+  Vec3 BackprojectCam(int i) const { return rig->camera.Backproject(pixel(i), depth[i]); }
+};
+
+}  // namespace esdslam

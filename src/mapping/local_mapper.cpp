@@ -1,0 +1,124 @@
+#include "mapping/local_mapper.h"
+
+#include <spdlog/spdlog.h>
+
+#include "common/error.h"
+#include "map/keyframe.h"
+
+namespace esdslam {
+
+void LocalMapperOptions::Check() const {
+  if (queue_capacity < 1) throw Error("local mapping: queue_capacity must be >= 1");
+  if (triangulation_neighbours < 1) throw Error("local mapping: triangulation_neighbours must be >= 1");
+  if (!(fuse_radius_factor > 0)) throw Error("local mapping: fuse_radius_factor must be positive");
+  if (!(recent_culling.min_found_ratio >= 0 && recent_culling.min_found_ratio <= 1))
+    throw Error("local mapping: min_found_ratio must be in [0, 1]");
+  if (!(redundant_culling.redundant_ratio > 0 && redundant_culling.redundant_ratio <= 1))
+    throw Error("local mapping: redundant_ratio must be in (0, 1]");
+  bundle_adjustment.Check();
+}
+
+LocalMapper::LocalMapper(Map* map, const LocalMapperOptions& options, bool threaded)
+    : map_(map), options_(options), threaded_(threaded), queue_(options.queue_capacity) {
+  options_.Check();
+}
+
+LocalMapper::~LocalMapper() {
+  try {
+    Close();
+  } catch (...) {
+  }
+}
+
+void LocalMapper::Start() {
+  if (threaded_ && !worker_.joinable() && !closed_) worker_ = std::thread([this] { Run(); });
+}
+
+bool LocalMapper::AcceptsKeyFrames() const { return !threaded_ || (idle_ && in_flight_ == 0); }
+int LocalMapper::QueuedKeyFrames() const {
+  return threaded_ ? static_cast<int>(queue_.Size()) : static_cast<int>(sync_queue_.size());
+}
+
+void LocalMapper::InsertKeyFrame(KeyFrame* keyframe) {
+  abort_ba_ = true;
+  if (!threaded_) {
+    sync_queue_.push_back(keyframe);
+    return;
+  }
+  ++in_flight_;
+  if (!queue_.Push(keyframe)) {
+    --in_flight_;
+    throw Error("local mapping: keyframe inserted after Close()");
+  }
+}
+
+void LocalMapper::ProcessQueued() {
+  while (!sync_queue_.empty()) {
+    KeyFrame* keyframe = sync_queue_.front();
+    sync_queue_.pop_front();
+    ProcessKeyFrame(keyframe);
+  }
+}
+
+void LocalMapper::Close(bool drop_pending) {
+  if (closed_) return;
+  closed_ = true;
+  drop_pending_ = drop_pending;
+  if (threaded_) {
+    queue_.Close();
+    if (worker_.joinable()) worker_.join();
+    // Never started: drain here so the map stays consistent.
+    while (auto keyframe = queue_.TryPop()) ProcessKeyFrame(*keyframe);
+  } else {
+    ProcessQueued();
+  }
+}
+
+void LocalMapper::Run() {
+  while (auto keyframe = queue_.Pop()) {
+    idle_ = false;
+    ProcessKeyFrame(*keyframe);
+    --in_flight_;
+    idle_ = true;
+  }
+}
+
+bool LocalMapper::MoreWaiting() const { return QueuedKeyFrames() > 0 && !drop_pending_; }
+
+// The table of contents of local mapping for one keyframe.
+void LocalMapper::ProcessKeyFrame(KeyFrame* keyframe) {
+  LocalMapperStats delta;
+  {
+    std::lock_guard<std::mutex> lock(map_->update_mutex());
+    InsertKeyFrameIntoMap(map_, keyframe, &recent_points_);
+    if (drop_pending_) return;
+    delta.points_culled = CullRecentMapPoints(*keyframe, options_.recent_culling, &recent_points_);
+    delta.points_created =
+        CreateMapPointsFromNeighbours(map_, keyframe, options_.triangulation_neighbours, &recent_points_);
+    if (!MoreWaiting()) FuseWithNeighbours(keyframe, options_.fuse_radius_factor);
+  }
+  abort_ba_ = false;
+  if (!MoreWaiting() && options_.local_bundle_adjustment && map_->num_keyframes() > 2) {
+    const BaSummary summary = LocalBundleAdjustment(map_, keyframe, options_.bundle_adjustment, &abort_ba_);
+    delta.bundle_adjustments = 1;
+    delta.bundle_adjustments_aborted = summary.aborted ? 1 : 0;
+  }
+  if (!MoreWaiting() && options_.keyframe_culling) {
+    std::lock_guard<std::mutex> lock(map_->update_mutex());
+    delta.keyframes_culled = CullRedundantKeyFrames(map_, keyframe, options_.redundant_culling);
+  }
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  stats_.keyframes_processed += 1;
+  stats_.points_created += delta.points_created;
+  stats_.points_culled += delta.points_culled;
+  stats_.keyframes_culled += delta.keyframes_culled;
+  stats_.bundle_adjustments += delta.bundle_adjustments;
+  stats_.bundle_adjustments_aborted += delta.bundle_adjustments_aborted;
+}
+
+LocalMapperStats LocalMapper::stats() const {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  return stats_;
+}
+
+}  // namespace esdslam

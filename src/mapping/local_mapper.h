@@ -1,0 +1,89 @@
+#pragma once
+// The local-mapping thread (ORB-SLAM2's LocalMapping): receives keyframes from tracking through a
+// bounded queue and, for each, inserts it into the map, culls recent points, creates new points
+// with its neighbours, fuses duplicates, runs local BA and culls redundant keyframes.
+//
+// Threaded mode: Start() launches the worker; it waits on the queue's condition variables (no
+// polling). Synchronous mode: InsertKeyFrame only queues; the owner calls ProcessQueued() on its
+// own thread (deterministic runs and tests). Close() processes every queued keyframe (or, with
+// drop_pending, only inserts them into the map without further work) and joins the worker.
+
+#include <atomic>
+#include <deque>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "common/bounded_queue.h"
+#include "map/keyframe_sink.h"
+#include "map/map.h"
+#include "mapping/mapping_steps.h"
+
+namespace esdslam {
+
+struct LocalMapperOptions {
+  int queue_capacity = 8;
+  int triangulation_neighbours = 10;  // best covisible keyframes used to create points (RGB-D: 10)
+  double fuse_radius_factor = 3.0;
+  bool local_bundle_adjustment = true;
+  bool keyframe_culling = true;
+  RecentPointCulling recent_culling;
+  RedundantKeyFrameCulling redundant_culling;
+  BundleAdjustmentOptions bundle_adjustment;
+  void Check() const;
+};
+
+struct LocalMapperStats {
+  int keyframes_processed = 0;
+  int points_created = 0;
+  int points_culled = 0;
+  int keyframes_culled = 0;
+  int bundle_adjustments = 0;
+  int bundle_adjustments_aborted = 0;
+};
+
+class LocalMapper : public KeyFrameSink {
+ public:
+  LocalMapper(Map* map, const LocalMapperOptions& options, bool threaded);
+  ~LocalMapper() override;
+  LocalMapper(const LocalMapper&) = delete;
+  LocalMapper& operator=(const LocalMapper&) = delete;
+
+  void Start();  // launches the worker thread (threaded mode; no-op otherwise)
+
+  bool AcceptsKeyFrames() const override;
+  int QueuedKeyFrames() const override;
+  void InterruptBundleAdjustment() override { abort_ba_ = true; }
+  void InsertKeyFrame(KeyFrame* keyframe) override;
+
+  // Synchronous mode: processes every queued keyframe now, on the caller's thread (which must not
+  // hold the map update mutex).
+  void ProcessQueued();
+  // Stops accepting keyframes, processes (or with drop_pending only inserts) the queued ones and
+  // joins the worker. Idempotent.
+  void Close(bool drop_pending = false);
+
+  LocalMapperStats stats() const;
+
+ private:
+  void Run();
+  void ProcessKeyFrame(KeyFrame* keyframe);
+  bool MoreWaiting() const;
+
+  Map* map_;
+  LocalMapperOptions options_;
+  const bool threaded_;
+  BoundedQueue<KeyFrame*> queue_;
+  std::deque<KeyFrame*> sync_queue_;  // synchronous mode
+  std::thread worker_;
+  std::atomic<bool> idle_{true};
+  std::atomic<bool> abort_ba_{false};
+  std::atomic<bool> drop_pending_{false};
+  std::atomic<int> in_flight_{0};  // keyframes inserted but not yet finished
+  std::vector<MapPoint*> recent_points_;  // worker-owned
+  mutable std::mutex stats_mutex_;
+  LocalMapperStats stats_;
+  bool closed_ = false;
+};
+
+}  // namespace esdslam

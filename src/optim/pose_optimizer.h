@@ -1,0 +1,40 @@
+#pragma once
+// Motion-only bundle adjustment (ORB-SLAM2's Optimizer::PoseOptimization) with Ceres.
+
+#include <vector>
+
+#include "camera/pinhole_camera.h"
+#include "common/geometry.h"
+
+namespace esdslam {
+
+struct PoseObservation {
+  Vec3 point_world;
+  Vec2 pixel;              // undistorted keypoint (u, v), px
+  double right_u = -1;     // virtual right-camera u = u - bf / depth; < 0: no depth -> 2-D residual
+  double information = 1;  // inverse sigma^2 of the keypoint's pyramid level
+  bool outlier = false;    // in/out: set by the optimiser
+};
+
+struct PoseOptimizerOptions {
+  int rounds = 4;                 // optimise / re-classify cycles
+  int iterations_per_round = 10;  // Levenberg-Marquardt iterations per round
+  double chi2_mono = 5.991;       // 95% chi2, 2 DoF
+  double chi2_stereo = 7.815;     // 95% chi2, 3 DoF
+  // Huber loss in the first half of the rounds (at least one), plain least squares after
+  // (ORB-SLAM2: 2 of 4 rounds robust).
+  bool robust_first_rounds = true;
+  void Check() const;
+};
+
+// Optimises cam_from_world in place (initial value = input). Every observation starts as an
+// inlier (input outlier flags are ignored) unless its point is behind the camera. Each round
+// optimises over the current inliers (Huber loss with delta = sqrt(chi2 threshold) in the robust
+// rounds), then re-classifies every observation as inlier / outlier by its chi2 at the new pose;
+// points behind the camera are outliers. Each round starts from the previous round's pose.
+// Returns the number of inliers. With fewer than 3 inliers no round runs (pose unchanged).
+// Throws Error when bf <= 0 while some observation has a right_u, or on invalid options.
+int OptimizePose(const PinholeCamera& camera, double bf, const PoseOptimizerOptions& options,
+                 std::vector<PoseObservation>* observations, Rigid3* cam_from_world);
+
+}  // namespace esdslam

@@ -1,0 +1,127 @@
+#include "semantic/onnx_segmenter.h"
+
+#include <filesystem>
+
+#include <opencv2/imgproc.hpp>
+#include <spdlog/spdlog.h>
+
+#include "common/error.h"
+#include "common/timer.h"
+
+namespace esdslam {
+
+void OnnxSegmenterOptions::Check() const {
+  if (model_path.empty()) throw Error("Semantic.model: no model path given");
+  if (input_width <= 0 || input_height <= 0 || input_width % 32 != 0 || input_height % 32 != 0)
+    throw Error(fmt::format("Semantic.inputWidth/inputHeight must be positive multiples of 32 (got {}x{})",
+                            input_width, input_height));
+  for (float s : std_rgb)
+    if (!(s > 0.0f)) throw Error("segmenter std values must be positive");
+  if (class_names.empty() || class_names.size() > 256) throw Error("segmenter needs 1..256 class names");
+  if (person_class >= static_cast<int>(class_names.size())) throw Error("person class id out of range");
+  if (threads < 0) throw Error("Semantic.threads must be >= 0");
+}
+
+OnnxSegmenter::OnnxSegmenter(OnnxSegmenterOptions options) : options_(std::move(options)) {
+  options_.Check();
+  if (!std::filesystem::is_regular_file(options_.model_path))
+    throw InputError(options_.model_path, 0, "segmentation model file not found");
+  try {
+    net_ = cv::dnn::readNetFromONNX(options_.model_path);
+  } catch (const cv::Exception& e) {
+    throw InputError(options_.model_path, 0, fmt::format("OpenCV DNN cannot load the ONNX model: {}", e.what()));
+  }
+  if (net_.empty()) throw InputError(options_.model_path, 0, "OpenCV DNN loaded an empty network");
+  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  if (options_.threads > 0) cv::setNumThreads(options_.threads);
+  // A test run checks that the model matches the configured input size and class count.
+  Scores(cv::Mat(options_.input_height, options_.input_width, CV_8UC3, cv::Scalar::all(127)));
+  spdlog::info("segmenter: {} ({}x{} input, {} classes)", options_.model_path, options_.input_width,
+               options_.input_height, options_.class_names.size());
+}
+
+cv::Mat OnnxSegmenter::MakeBlob(const cv::Mat& bgr) const {
+  cv::Mat resized;
+  cv::resize(bgr, resized, cv::Size(options_.input_width, options_.input_height), 0, 0, cv::INTER_LINEAR);
+  // NCHW float, RGB, /255.
+  cv::Mat blob = cv::dnn::blobFromImage(resized, 1.0 / 255.0, cv::Size(), cv::Scalar(), /*swapRB=*/true,
+                                        /*crop=*/false, CV_32F);
+  for (int c = 0; c < 3; ++c) {
+    cv::Mat plane(options_.input_height, options_.input_width, CV_32F, blob.ptr<float>(0, c));
+    plane.convertTo(plane, CV_32F, 1.0 / options_.std_rgb[c], -options_.mean_rgb[c] / options_.std_rgb[c]);
+  }
+  return blob;
+}
+
+std::vector<cv::Mat> OnnxSegmenter::Scores(const cv::Mat& bgr) {
+  if (bgr.empty() || bgr.type() != CV_8UC3) throw Error("segmenter input must be a non-empty CV_8UC3 BGR image");
+  const cv::Mat blob = MakeBlob(bgr);
+  cv::Mat out;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    try {
+      net_.setInput(blob);
+      out = net_.forward().clone();
+    } catch (const cv::Exception& e) {
+      throw Error(fmt::format("{}: inference failed (does the model take {}x{} inputs?): {}", options_.model_path,
+                              options_.input_width, options_.input_height, e.what()));
+    }
+  }
+  const int num_classes = static_cast<int>(options_.class_names.size());
+  if (out.dims != 4 || out.size[0] != 1 || out.size[1] != num_classes || out.size[2] != options_.input_height ||
+      out.size[3] != options_.input_width)
+    throw Error(fmt::format("{}: expected 1x{}x{}x{} scores from the network", options_.model_path, num_classes,
+                            options_.input_height, options_.input_width));
+  std::vector<cv::Mat> planes;
+  for (int c = 0; c < num_classes; ++c)
+    planes.emplace_back(options_.input_height, options_.input_width, CV_32F, out.ptr<float>(0, c));
+  // The planes share `out`'s buffer; keep it alive through the first plane's reference count.
+  for (auto& p : planes) p = p.clone();
+  return planes;
+}
+
+SegmentationResult OnnxSegmenter::Segment(const cv::Mat& bgr, double /*timestamp*/) {
+  Stopwatch watch;
+  std::vector<cv::Mat> scores = Scores(bgr);
+  SegmentationResult result;
+  const cv::Size image_size = bgr.size();
+  if (options_.compute_person_probability && options_.person_class >= 0) {
+    cv::resize(SoftmaxProbability(scores, options_.person_class), result.person_probability, image_size, 0, 0,
+               cv::INTER_LINEAR);
+  }
+  if (options_.upsample_scores) {
+    for (auto& s : scores) cv::resize(s, s, image_size, 0, 0, cv::INTER_LINEAR);
+    result.labels = ArgmaxLabels(scores);
+  } else {
+    cv::resize(ArgmaxLabels(scores), result.labels, image_size, 0, 0, cv::INTER_NEAREST);
+  }
+  result.segment_ms = watch.ElapsedMs();
+  return result;
+}
+
+cv::Mat ArgmaxLabels(const std::vector<cv::Mat>& scores) {
+  if (scores.empty()) throw Error("ArgmaxLabels: no score planes");
+  cv::Mat best = scores[0].clone();
+  cv::Mat labels(scores[0].size(), CV_8UC1, cv::Scalar(0));
+  for (std::size_t c = 1; c < scores.size(); ++c) {
+    const cv::Mat better = scores[c] > best;  // ties keep the lower class id
+    scores[c].copyTo(best, better);
+    labels.setTo(cv::Scalar(static_cast<double>(c)), better);
+  }
+  return labels;
+}
+
+cv::Mat SoftmaxProbability(const std::vector<cv::Mat>& scores, int class_id) {
+  cv::Mat max_score = scores[0].clone();
+  for (const auto& s : scores) cv::max(max_score, s, max_score);
+  cv::Mat sum(max_score.size(), CV_32F, cv::Scalar(0)), e, wanted;
+  for (std::size_t c = 0; c < scores.size(); ++c) {
+    cv::exp(scores[c] - max_score, e);
+    sum += e;
+    if (static_cast<int>(c) == class_id) wanted = e.clone();
+  }
+  return wanted / sum;
+}
+
+}  // namespace esdslam

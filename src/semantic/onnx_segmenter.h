@@ -1,0 +1,71 @@
+#pragma once
+// Segmentation with an ONNX network on OpenCV DNN (CPU). The shipped models are ESPNetv2 for
+// PASCAL VOC (models/espnetv2_s2.0_voc_<W>x<H>.onnx, see tools/espnetv2/README.md).
+//
+// Pipeline per frame: resize the whole frame to the network input (bilinear, cv::resize on
+// 8 bits), BGR->RGB, /255, (x - mean) / std, run, then
+//   upsample_scores = true  (default): resize the 21 class-score planes bilinearly to the image
+//                          size and take the argmax per pixel (smooth, sub-input-pixel borders);
+//   upsample_scores = false: argmax at network resolution, labels resized with nearest neighbour
+//                          (faster, blocky borders).
+// The person probability (softmax of the person class) is computed at network resolution and
+// resized bilinearly to the image size.
+
+#include <array>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/dnn.hpp>
+
+#include "semantic/segmenter.h"
+
+namespace esdslam {
+
+struct OnnxSegmenterOptions {
+  std::string model_path;  // Semantic.model (already resolved; see ResolveModelPath)
+  int input_width = 256;   // Semantic.inputWidth: the width the model was exported for (px)
+  int input_height = 192;  // Semantic.inputHeight
+  std::array<float, 3> mean_rgb{0.485f, 0.456f, 0.406f};  // of the /255 input, RGB order
+  std::array<float, 3> std_rgb{0.229f, 0.224f, 0.225f};
+  std::vector<std::string> class_names = VocClassNames();
+  int person_class = kVocPersonClass;  // -1: no person probability
+  bool compute_person_probability = true;
+  bool upsample_scores = true;
+  // Semantic.threads: > 0 calls cv::setNumThreads(threads) when the segmenter is created. Note
+  // that OpenCV's thread count is process-wide. 0 leaves OpenCV's setting untouched.
+  int threads = 0;
+
+  void Check() const;
+};
+
+class OnnxSegmenter : public Segmenter {
+ public:
+  // Loads the model; throws Error if the file is missing or OpenCV cannot import it, or if a
+  // test run does not give num_classes x input_height x input_width scores.
+  explicit OnnxSegmenter(OnnxSegmenterOptions options);
+
+  SegmentationResult Segment(const cv::Mat& bgr, double timestamp) override;
+  std::string Name() const override { return "onnx:" + options_.model_path; }
+
+  // Network output for `bgr`: one CV_32FC1 score plane per class at network resolution.
+  std::vector<cv::Mat> Scores(const cv::Mat& bgr);
+
+  const OnnxSegmenterOptions& options() const { return options_; }
+
+ private:
+  cv::Mat MakeBlob(const cv::Mat& bgr) const;
+
+  OnnxSegmenterOptions options_;
+  std::mutex mutex_;  // cv::dnn::Net::forward is not re-entrant
+  cv::dnn::Net net_;
+};
+
+// Argmax over score planes (all the same size, CV_32FC1) -> CV_8UC1 labels.
+cv::Mat ArgmaxLabels(const std::vector<cv::Mat>& scores);
+// Softmax probability of class `class_id` -> CV_32FC1.
+cv::Mat SoftmaxProbability(const std::vector<cv::Mat>& scores, int class_id);
+
+}  // namespace esdslam

@@ -1,0 +1,110 @@
+#pragma once
+// The segmentation thread. Owns a Segmenter and runs it on submitted frames in its own thread.
+//
+// Modes:
+//   kEveryFrame  every submitted frame is segmented, in order. Submit blocks while `queue_capacity`
+//                frames are waiting (back-pressure); tracking calls WaitFor(id) for each frame.
+//   kNewestWins  real time: at most one frame waits; a newer submission replaces it, so when the
+//                network becomes free it takes the newest frame. Submit never blocks. Tracking
+//                calls Latest() for the newest finished result (never waits), or WaitFor(id),
+//                which returns nullopt for frames that were replaced.
+// Frame ids must increase with every Submit. Results are kept for the last `keep_results`
+// processed frames; their cv::Mats are shared, treat them as read-only.
+// If the segmenter throws, the worker stops and WaitFor / Latest rethrow the message as Error.
+
+#include <condition_variable>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include <opencv2/core.hpp>
+
+#include "common/bounded_queue.h"
+#include "semantic/segmenter.h"
+
+namespace esdslam {
+
+enum class SegmentationMode { kEveryFrame, kNewestWins };
+
+struct SegmentationWorkerOptions {
+  SegmentationMode mode = SegmentationMode::kEveryFrame;
+  int queue_capacity = 2;   // frames waiting in kEveryFrame mode
+  int keep_results = 64;    // finished results kept for lookup by id
+
+  void Check() const;
+};
+
+struct SegmentationFrame {
+  std::int64_t id = 0;
+  double timestamp = 0.0;  // seconds
+  cv::Mat bgr;             // CV_8UC3; not modified by the worker
+};
+
+struct SegmentedFrame {
+  std::int64_t id = 0;
+  double timestamp = 0.0;
+  SegmentationResult result;
+  double latency_ms = 0.0;  // from Submit to result available (queueing + segmentation)
+};
+
+struct SegmentationWorkerStats {
+  std::int64_t submitted = 0;
+  std::int64_t processed = 0;
+  std::int64_t replaced = 0;  // frames never segmented because a newer one replaced them (kNewestWins)
+  double mean_segment_ms = 0.0;
+  double mean_latency_ms = 0.0;
+};
+
+class SegmentationWorker {
+ public:
+  SegmentationWorker(std::unique_ptr<Segmenter> segmenter, SegmentationWorkerOptions options = {});
+  ~SegmentationWorker();  // Stop()
+  SegmentationWorker(const SegmentationWorker&) = delete;
+  SegmentationWorker& operator=(const SegmentationWorker&) = delete;
+
+  // Returns false after Stop(). Throws Error if ids do not increase.
+  bool Submit(SegmentationFrame frame);
+
+  // Blocks until frame `id` is segmented. nullopt if it was replaced (kNewestWins), was never
+  // submitted before Stop(), or has already dropped out of the kept results.
+  std::optional<SegmentedFrame> WaitFor(std::int64_t id);
+  // The most recent finished result, without waiting.
+  std::optional<SegmentedFrame> Latest();
+
+  // Stops accepting frames, finishes the frames already queued, joins the thread. Idempotent.
+  void Stop();
+
+  SegmentationWorkerStats Stats() const;
+
+ private:
+  struct Job {
+    SegmentationFrame frame;
+    double submit_ms;  // steady clock, milliseconds
+  };
+  void Run();
+  void Publish(SegmentedFrame done);
+  void ThrowIfFailed() const;  // requires mutex_ held
+
+  std::unique_ptr<Segmenter> segmenter_;
+  const SegmentationWorkerOptions options_;
+  BoundedQueue<Job> queue_;
+  std::mutex submit_mutex_;  // serialises Submit (id order check + queue push)
+  std::optional<std::int64_t> last_submitted_id_;
+
+  mutable std::mutex mutex_;  // guards everything below
+  std::condition_variable result_ready_;
+  std::map<std::int64_t, SegmentedFrame> results_;
+  std::optional<std::int64_t> last_processed_id_;
+  bool in_progress_ = false;  // the thread is segmenting a frame
+  bool finished_ = false;     // the thread has exited
+  std::string failure_;    // segmenter error message, empty if none
+  SegmentationWorkerStats stats_;
+
+  std::thread thread_;
+};
+
+}  // namespace esdslam

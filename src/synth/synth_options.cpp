@@ -1,0 +1,61 @@
+#include "synth/synth_options.h"
+
+#include <cmath>
+
+#include "common/error.h"
+
+namespace esdslam {
+
+CameraIntrinsics SynthOptions::DefaultIntrinsics() {
+  CameraIntrinsics k;
+  k.fx = 525.0;
+  k.fy = 525.0;
+  k.cx = 319.5;
+  k.cy = 239.5;
+  k.width = 640;
+  k.height = 480;
+  return k;
+}
+
+void SynthOptions::Check() const {
+  if (num_frames < 1) throw Error(fmt::format("synth: num_frames must be >= 1 (got {})", num_frames));
+  if (!(fps > 0) || !std::isfinite(fps)) throw Error(fmt::format("synth: fps must be positive (got {})", fps));
+  if (!std::isfinite(first_timestamp) || first_timestamp < 0)
+    throw Error("synth: first_timestamp must be finite and >= 0");
+  intrinsics.Check();
+  if (intrinsics.HasDistortion()) throw Error("synth: the synthetic camera has no distortion (k1..k3, p1, p2 must be 0)");
+  if (trajectory != "arc" && trajectory != "loop")
+    throw Error(fmt::format("synth: trajectory must be 'arc' or 'loop' (got '{}')", trajectory));
+  if (num_movers < 0 || num_movers > 4) throw Error(fmt::format("synth: num_movers must be in 0..4 (got {})", num_movers));
+  if (!(mover_scale >= 0.5 && mover_scale <= 1.2))
+    throw Error(fmt::format("synth: mover_scale must be in [0.5, 1.2] (got {})", mover_scale));
+  if (!(mover_speed > 0 && mover_speed <= 3.0))
+    throw Error(fmt::format("synth: mover_speed must be in (0, 3] m/s (got {})", mover_speed));
+  if (!(depth_noise_at_1m >= 0 && depth_noise_at_1m <= 0.05))
+    throw Error(fmt::format("synth: depth_noise_at_1m must be in [0, 0.05] m (got {})", depth_noise_at_1m));
+  if (!(max_depth_m > 0 && max_depth_m <= 13.0))
+    throw Error(fmt::format("synth: max_depth_m must be in (0, 13] (16-bit PNG at factor 5000) (got {})", max_depth_m));
+  if (!(std::abs(depth_time_offset) < 0.02))
+    throw Error(fmt::format("synth: |depth_time_offset| must be < 0.02 s (got {})", depth_time_offset));
+  if (supersampling < 1 || supersampling > 4) throw Error("synth: supersampling must be in 1..4");
+  if (!(texel_m >= 0.001 && texel_m <= 0.02)) throw Error("synth: texel_m must be in [0.001, 0.02] m");
+}
+
+SynthOptions SynthPreset(const std::string& name) {
+  SynthOptions options;
+  if (name == "static") {
+    return options;
+  }
+  if (name == "dynamic") {
+    options.num_movers = 3;
+    return options;
+  }
+  if (name == "loop") {
+    options.trajectory = "loop";
+    options.num_frames = 450;
+    return options;
+  }
+  throw Error(fmt::format("synth: unknown preset '{}' (expected static, dynamic or loop)", name));
+}
+
+}  // namespace esdslam

@@ -1,0 +1,45 @@
+#pragma once
+// Options of the synthetic RGB-D scene generator (see synth/synthetic_scene.h).
+//
+// The scene is a textured 6 x 5 x 3 m room with static furniture; the camera follows a known
+// smooth path ("arc": a walk along an arc looking into the room, or "loop": a closed circle
+// looking outwards that ends exactly at its start pose); optional human-sized boxes walk back
+// and forth through the view. Everything is deterministic given `seed`.
+
+#include <cstdint>
+#include <string>
+
+#include "camera/pinhole_camera.h"
+
+namespace esdslam {
+
+struct SynthOptions {
+  int num_frames = 240;
+  std::uint32_t seed = 1;
+  double fps = 30.0;                // frame rate; timestamps are first_timestamp + i / fps
+  double first_timestamp = 100.0;   // seconds
+  // Pinhole camera without distortion (k1..k3 = 0 are required). Default: 640x480, f = 525.
+  CameraIntrinsics intrinsics = DefaultIntrinsics();
+  std::string trajectory = "arc";   // "arc" or "loop"
+  int num_movers = 0;               // moving people (boxes); 0 = static scene. arc: <= 4, loop: <= 4
+  double mover_scale = 1.0;         // size factor of a mover (1 = 0.5 wide x 0.3 deep x 1.7 m tall)
+  double mover_speed = 1.1;         // mean walking speed, m/s (each mover varies +-20 %)
+  // Gaussian depth noise: sigma(z) = depth_noise_at_1m * z^2 metres (Kinect-like growth).
+  // 0 = exact depth (only the 1/5000 m quantisation of the PNG files remains).
+  double depth_noise_at_1m = 0.0;
+  double max_depth_m = 8.0;         // depth beyond this is invalid (0)
+  double depth_time_offset = 0.0;   // depth timestamps = rgb timestamps + this; |offset| < 0.02 s
+  int supersampling = 2;            // colour samples per pixel per axis (anti-aliasing), 1..4
+  double texel_m = 0.004;           // texture resolution of the room surfaces, metres per texel
+
+  // Throws esdslam::Error on invalid values.
+  void Check() const;
+
+  static CameraIntrinsics DefaultIntrinsics();
+};
+
+// Named presets: "static" (arc, no movers, 240 frames), "dynamic" (arc, 3 movers, 240 frames),
+// "loop" (closed loop, no movers, 450 frames). Throws Error on an unknown name.
+SynthOptions SynthPreset(const std::string& name);
+
+}  // namespace esdslam

@@ -1,0 +1,39 @@
+#pragma once
+// Known motions of the synthetic scenes. World frame: x east, y north, z up, origin at the
+// centre of the room floor (room: x in [-3, 3], y in [-2.5, 2.5], z in [0, 3] metres).
+// Times are seconds since the first frame.
+
+#include <random>
+#include <vector>
+
+#include "common/geometry.h"
+#include "synth/synth_options.h"
+
+namespace esdslam {
+
+// world_from_cam of the camera (x right, y down, z forward) at `time`.
+// "arc": a 2.6 m walk along an arc south of the room centre, heading towards the room centre,
+//   with a gentle yaw/pitch/roll wobble and a 1.5 cm step bob (about 0.33 m/s, <= 20 deg/s at
+//   the defaults). "loop": one turn around a 0.5 m circle around the room centre, looking
+//   outwards, ending exactly at its start pose (all wobble terms are periodic over the loop).
+Rigid3 CameraPoseAt(const SynthOptions& options, double time);
+
+// A mover walks back and forth along a lane parallel to the x axis: x(t) = A sin(omega t + phase).
+struct MoverPath {
+  double lane_y = 0;      // metres
+  double amplitude = 1.75;
+  double omega = 0.6;     // rad/s; peak speed = amplitude * omega
+  double phase = 0;
+};
+
+// One path per mover (options.num_movers), lanes chosen so movers never touch each other,
+// the furniture or the camera. Seeded by rng (speeds and phases).
+std::vector<MoverPath> MakeMoverPaths(const SynthOptions& options, std::mt19937& rng);
+
+// Half sizes (x along the walking direction, y across, z up) of a mover box, metres.
+Vec3 MoverHalfSize(const SynthOptions& options);
+
+// Centre of the mover box at `time` (the box is axis-aligned: it walks along x).
+Vec3 MoverCentreAt(const MoverPath& path, const Vec3& half_size, double time);
+
+}  // namespace esdslam

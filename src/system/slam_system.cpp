@@ -1,0 +1,98 @@
+#include "system/slam_system.h"
+
+#include <cmath>
+
+#include <spdlog/spdlog.h>
+
+#include "common/error.h"
+#include "common/timer.h"
+#include "map/keyframe.h"
+
+namespace esdslam {
+
+void SlamOptions::Check() const {
+  tracker.Check();
+  mapping.Check();
+}
+
+SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
+    : settings_(settings), options_(options) {
+  settings_.Check();
+  options_.tracker.max_frames_between_keyframes = std::max(1, static_cast<int>(std::lround(settings_.fps)));
+  options_.Check();
+  extractor_ = std::make_unique<OrbExtractor>(settings_.orb);
+  rig_ = MakeRgbdRig(settings_.camera, settings_.bf, settings_.th_depth, *extractor_);
+  map_ = std::make_unique<Map>();
+  mapper_ = std::make_unique<LocalMapper>(map_.get(), options_.mapping, !options_.single_thread);
+  tracker_ = std::make_unique<Tracker>(map_.get(), mapper_.get(), options_.tracker);
+  mapper_->Start();
+  spdlog::info("slam: {} mode, close depth < {:.2f} m, keyframe at least every {} frames",
+               options_.single_thread ? "single-thread" : "two-thread", rig_->th_depth_m,
+               options_.tracker.max_frames_between_keyframes);
+}
+
+SlamSystem::~SlamSystem() {
+  try {
+    Shutdown();
+  } catch (const std::exception& e) {
+    spdlog::error("slam: shutdown failed: {}", e.what());
+  }
+}
+
+TrackOutcome SlamSystem::TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, double timestamp,
+                                   const cv::Mat& dynamic_mask) {
+  if (shut_down_) throw Error("slam: TrackRgbd after Shutdown");
+  TrackOutcome outcome;
+  Stopwatch watch;
+  Frame frame(next_frame_id_++, timestamp, bgr, depth_m, dynamic_mask, *extractor_, rig_, options_.frame);
+  outcome.extract_ms = watch.ElapsedMs();
+  watch.Restart();
+  const TrackingResult result = tracker_->Track(&frame);
+  if (options_.single_thread) mapper_->ProcessQueued();
+  outcome.track_ms = watch.ElapsedMs();
+  outcome.state = result.state;
+  outcome.has_pose = result.has_pose;
+  outcome.new_keyframe = result.new_keyframe != nullptr;
+  outcome.inliers = result.inliers;
+  FrameRecord record{timestamp, nullptr, Rigid3()};
+  if (result.has_pose) {
+    outcome.world_from_cam = result.cam_from_world.inverse();
+    record.reference = result.reference_keyframe;
+    record.cam_from_reference = result.cam_from_world * result.reference_keyframe->world_from_cam();
+  }
+  std::lock_guard<std::mutex> lock(records_mutex_);
+  records_.push_back(record);
+  return outcome;
+}
+
+void SlamSystem::Shutdown() {
+  if (shut_down_) return;
+  shut_down_ = true;
+  mapper_->Close();
+  const LocalMapperStats stats = mapper_->stats();
+  spdlog::debug("local mapping: {} keyframes, {} points created, {} culled, {} keyframes culled, {} BA ({} aborted)",
+                stats.keyframes_processed, stats.points_created, stats.points_culled, stats.keyframes_culled,
+                stats.bundle_adjustments, stats.bundle_adjustments_aborted);
+}
+
+std::vector<StampedPose> SlamSystem::Trajectory() const {
+  std::lock_guard<std::mutex> map_lock(map_->update_mutex());
+  std::lock_guard<std::mutex> lock(records_mutex_);
+  std::vector<StampedPose> poses;
+  for (const FrameRecord& record : records_) {
+    if (record.reference == nullptr) continue;
+    Rigid3 cam_from_reference = record.cam_from_reference;
+    KeyFrame* reference = LiveAncestor(record.reference, &cam_from_reference);
+    poses.push_back({record.timestamp, (cam_from_reference * reference->cam_from_world()).inverse()});
+  }
+  return poses;
+}
+
+std::vector<StampedPose> SlamSystem::KeyFrameTrajectory() const {
+  std::lock_guard<std::mutex> map_lock(map_->update_mutex());
+  std::vector<StampedPose> poses;
+  for (KeyFrame* keyframe : map_->keyframes()) poses.push_back({keyframe->timestamp(), keyframe->world_from_cam()});
+  return poses;
+}
+
+}  // namespace esdslam

@@ -1,0 +1,91 @@
+#pragma once
+// The SLAM system: owns the map, the ORB extractor, the tracker (run on the caller's thread by
+// TrackRgbd) and the local-mapping thread (or, in single-thread mode, local mapping run on the
+// caller's thread right after each tracking step, which makes runs exactly repeatable).
+//
+// Trajectory: every tracked frame is stored relative to its reference keyframe (ORB-SLAM2), so
+// the output reflects later keyframe corrections by BA; world = the first keyframe's camera.
+
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "feature/orb_extractor.h"
+#include "io/settings.h"
+#include "io/trajectory_io.h"
+#include "map/map.h"
+#include "mapping/local_mapper.h"
+#include "tracking/tracker.h"
+
+namespace esdslam {
+
+struct SlamOptions {
+  bool single_thread = false;  // local mapping on the caller's thread (deterministic)
+  unsigned seed = 0;           // seeds every random choice (none in the current pipeline)
+  TrackerOptions tracker;      // max_frames_between_keyframes is set from Settings::fps
+  LocalMapperOptions mapping;
+  FrameOptions frame;
+  void Check() const;
+};
+
+struct TrackOutcome {
+  TrackingState state = TrackingState::kNotInitialized;
+  bool has_pose = false;
+  Rigid3 world_from_cam;  // valid when has_pose
+  bool new_keyframe = false;
+  int inliers = 0;
+  double extract_ms = 0;  // Frame construction (ORB extraction, undistortion, depth lookup)
+  double track_ms = 0;    // tracking step, plus local mapping in single-thread mode
+};
+
+class SlamSystem {
+ public:
+  SlamSystem(const Settings& settings, const SlamOptions& options);
+  ~SlamSystem();
+  SlamSystem(const SlamSystem&) = delete;
+  SlamSystem& operator=(const SlamSystem&) = delete;
+
+  // bgr: CV_8UC3 (or CV_8UC1 grey); depth_m: CV_32F metres, 0 = invalid; dynamic_mask: empty or
+  // CV_8U, nonzero = moving object. Throws Error on bad images or after Shutdown().
+  TrackOutcome TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, double timestamp,
+                         const cv::Mat& dynamic_mask = cv::Mat());
+
+  // Finishes local mapping (processes queued keyframes) and joins its thread. Idempotent.
+  void Shutdown();
+
+  // world_from_cam of every frame that got a pose, in input order.
+  std::vector<StampedPose> Trajectory() const;
+  // world_from_cam of the live keyframes, by id.
+  std::vector<StampedPose> KeyFrameTrajectory() const;
+
+  TrackingState state() const { return tracker_->state(); }
+  int num_keyframes() const { return map_->num_keyframes(); }
+  int num_map_points() const { return map_->num_map_points(); }
+  int frames_seen() const { return static_cast<int>(next_frame_id_); }
+  LocalMapperStats mapping_stats() const { return mapper_->stats(); }
+  Map& map() { return *map_; }
+  const std::shared_ptr<const RgbdRig>& rig() const { return rig_; }
+
+ private:
+  struct FrameRecord {
+    double timestamp;
+    KeyFrame* reference;  // nullptr: no pose
+    Rigid3 cam_from_reference;
+  };
+
+  Settings settings_;
+  SlamOptions options_;
+  std::unique_ptr<OrbExtractor> extractor_;
+  std::shared_ptr<const RgbdRig> rig_;
+  std::unique_ptr<Map> map_;
+  std::unique_ptr<LocalMapper> mapper_;
+  std::unique_ptr<Tracker> tracker_;
+  long next_frame_id_ = 0;
+  mutable std::mutex records_mutex_;
+  std::vector<FrameRecord> records_;
+  bool shut_down_ = false;
+};
+
+}  // namespace esdslam

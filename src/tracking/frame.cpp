@@ -1,0 +1,124 @@
+#include "tracking/frame.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include "common/error.h"
+#include "map/map_point.h"
+
+namespace esdslam {
+
+std::shared_ptr<const RgbdRig> MakeRgbdRig(const CameraIntrinsics& intrinsics, double bf, double th_depth,
+                                           const OrbExtractor& extractor) {
+  auto rig = std::make_shared<RgbdRig>();
+  rig->camera = PinholeCamera(intrinsics);
+  rig->bf = bf;
+  rig->th_depth_m = th_depth * bf / intrinsics.fx;
+  ScalePyramid& pyramid = rig->pyramid;
+  pyramid.num_levels = extractor.num_levels();
+  pyramid.scale_factor = extractor.options().scale_factor;
+  pyramid.log_scale_factor = std::log(pyramid.scale_factor);
+  pyramid.scale_factors = extractor.scale_factors();
+  pyramid.level_sigma2 = extractor.level_sigma2();
+  pyramid.inv_level_sigma2 = extractor.inv_level_sigma2();
+  return rig;
+}
+
+namespace {
+
+cv::Mat ToGray(const cv::Mat& image, bool is_rgb) {
+  if (image.type() == CV_8UC1) return image;
+  cv::Mat gray;
+  if (image.type() == CV_8UC3) {
+    cv::cvtColor(image, gray, is_rgb ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
+  } else if (image.type() == CV_8UC4) {
+    cv::cvtColor(image, gray, is_rgb ? cv::COLOR_RGBA2GRAY : cv::COLOR_BGRA2GRAY);
+  } else {
+    throw Error("Frame: image must be 8-bit grey, colour or colour+alpha");
+  }
+  return gray;
+}
+
+// Depth (m) at the rounded raw keypoint position; 0 when invalid or outside.
+float DepthAt(const cv::Mat& depth_m, const cv::KeyPoint& keypoint) {
+  const int u = cvRound(keypoint.pt.x), v = cvRound(keypoint.pt.y);
+  if (u < 0 || v < 0 || u >= depth_m.cols || v >= depth_m.rows) return 0.f;
+  const float d = depth_m.at<float>(v, u);
+  return std::isfinite(d) && d > 0 ? d : 0.f;
+}
+
+}  // namespace
+
+Frame::Frame(long id, double timestamp, const cv::Mat& image, const cv::Mat& depth_m, const cv::Mat& dynamic_mask,
+             const OrbExtractor& extractor, std::shared_ptr<const RgbdRig> rig, const FrameOptions& options)
+    : id_(id), timestamp_(timestamp) {
+  if (image.empty() || depth_m.empty()) throw Error("Frame: empty colour or depth image");
+  if (depth_m.type() != CV_32FC1 || depth_m.size() != image.size())
+    throw Error("Frame: depth must be CV_32F metres with the size of the colour image");
+  const bool has_mask = !dynamic_mask.empty();
+  if (has_mask && (dynamic_mask.type() != CV_8UC1 || dynamic_mask.size() != image.size()))
+    throw Error("Frame: dynamic mask must be CV_8U with the size of the colour image");
+
+  auto features = std::make_shared<FeatureSet>();
+  features->rig = std::move(rig);
+  cv::Mat extraction_mask;
+  if (has_mask && options.mask_extraction) extraction_mask = dynamic_mask == 0;
+  extractor.Extract(ToGray(image, options.image_is_rgb), extraction_mask, &features->keypoints, &features->descriptors);
+
+  const int n = features->size();
+  std::vector<cv::Point2f> raw(n);
+  std::vector<int> levels(n);
+  for (int i = 0; i < n; ++i) raw[i] = features->keypoints[i].pt, levels[i] = features->keypoints[i].octave;
+  const PinholeCamera& camera = features->rig->camera;
+  features->undistorted = camera.Undistort(raw);
+  features->depth.assign(n, 0.f);
+  features->right_u.assign(n, -1.f);
+  features->is_dynamic.assign(n, 0);
+  for (int i = 0; i < n; ++i) {
+    const cv::KeyPoint& keypoint = features->keypoints[i];
+    const float depth = DepthAt(depth_m, keypoint);
+    if (depth > 0) {
+      features->depth[i] = depth;
+      features->right_u[i] = static_cast<float>(features->undistorted[i].x - features->rig->bf / depth);
+    }
+    if (has_mask) {
+      const int u = std::clamp(cvRound(keypoint.pt.x), 0, image.cols - 1);
+      const int v = std::clamp(cvRound(keypoint.pt.y), 0, image.rows - 1);
+      features->is_dynamic[i] = dynamic_mask.at<unsigned char>(v, u) != 0;
+    }
+  }
+  features->grid = std::make_unique<FeatureGrid>(features->undistorted, levels, camera.min_u(), camera.max_u(),
+                                                 camera.min_v(), camera.max_v());
+  features_ = std::move(features);
+  map_points.assign(n, nullptr);
+  outlier.assign(n, false);
+}
+
+bool Frame::IsInFrustum(MapPoint* point, double min_view_cos) const {
+  point->track.in_view = false;
+  const Vec3 position_world = point->position();
+  const Vec3 position_cam = cam_from_world * position_world;
+  if (position_cam.z() <= 0) return false;
+  const PinholeCamera& camera = rig().camera;
+  const Vec2 pixel = camera.Project(position_cam);
+  if (!camera.InImage(pixel)) return false;
+  const Vec3 ray = position_world - camera_center();
+  const double distance = ray.norm();
+  if (distance < point->min_distance() || distance > point->max_distance()) return false;
+  const double view_cos = ray.dot(point->normal()) / distance;
+  if (view_cos < min_view_cos) return false;
+  point->track.in_view = true;
+  point->track.proj_u = pixel.x();
+  point->track.proj_v = pixel.y();
+  point->track.proj_right_u = pixel.x() - rig().bf / position_cam.z();
+  point->track.predicted_level = point->PredictLevel(distance, rig().pyramid.num_levels, rig().pyramid.log_scale_factor);
+  point->track.view_cos = view_cos;
+  return true;
+}
+
+int Frame::NumWithDepth() const {
+  int count = 0;
+  for (float d : features().depth) count += d > 0;
+  return count;
+}
+
+}  // namespace esdslam

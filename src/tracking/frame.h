@@ -1,0 +1,69 @@
+#pragma once
+// One RGB-D image prepared for tracking: ORB features (shared, immutable FeatureSet), per-keypoint
+// map point associations and outlier flags, and the pose once tracked.
+//
+// Dynamic-object hook: `dynamic_mask` (CV_8U, nonzero = on a moving object, same size as the
+// image) flags the keypoints on it (FeatureSet::is_dynamic); flagged keypoints are never matched
+// for pose estimation nor turned into map points. With `FrameOptions::mask_extraction` the ORB
+// budget is spent on the static area only.
+
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "feature/orb_extractor.h"
+#include "map/feature_set.h"
+#include "map/map_types.h"
+
+namespace esdslam {
+
+struct FrameOptions {
+  bool mask_extraction = false;  // pass the complement of the dynamic mask to the extractor
+  bool image_is_rgb = false;     // colour channel order of the input (false: OpenCV BGR)
+};
+
+// The shared constants of a run: camera, bf, close-depth threshold (th_depth * bf / fx metres,
+// as ORB-SLAM2's ThDepth) and the extractor's scale pyramid.
+std::shared_ptr<const RgbdRig> MakeRgbdRig(const CameraIntrinsics& intrinsics, double bf, double th_depth,
+                                           const OrbExtractor& extractor);
+
+class Frame {
+ public:
+  Frame() = default;
+  // image: CV_8UC3 colour or CV_8UC1 grey. depth_m: CV_32F metres (0 = invalid), same size.
+  // Throws Error on empty or mismatched images.
+  Frame(long id, double timestamp, const cv::Mat& image, const cv::Mat& depth_m, const cv::Mat& dynamic_mask,
+        const OrbExtractor& extractor, std::shared_ptr<const RgbdRig> rig, const FrameOptions& options = {});
+
+  long id() const { return id_; }
+  double timestamp() const { return timestamp_; }
+  const FeatureSet& features() const { return *features_; }
+  const std::shared_ptr<const FeatureSet>& shared_features() const { return features_; }
+  const RgbdRig& rig() const { return *features_->rig; }
+  int size() const { return features_ ? features_->size() : 0; }
+  bool valid() const { return features_ != nullptr; }
+
+  // Associations (index = keypoint index).
+  std::vector<MapPoint*> map_points;
+  std::vector<bool> outlier;
+
+  bool has_pose = false;
+  Rigid3 cam_from_world;  // valid when has_pose
+  Vec3 camera_center() const { return cam_from_world.inverse().translation(); }
+  KeyFrame* reference_keyframe = nullptr;
+
+  // Projects a map point with the current pose and, when it is inside the image, within the
+  // point's scale-invariance distance range and seen at an angle with cos >= min_view_cos to its
+  // mean viewing direction, fills point->track (projection, predicted level) and returns true.
+  bool IsInFrustum(MapPoint* point, double min_view_cos) const;
+  // Keypoint count with depth.
+  int NumWithDepth() const;
+
+ private:
+  long id_ = -1;
+  double timestamp_ = 0;
+  std::shared_ptr<const FeatureSet> features_;
+};
+
+}  // namespace esdslam

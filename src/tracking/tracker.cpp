@@ -1,0 +1,226 @@
+#include "tracking/tracker.h"
+
+#include <algorithm>
+
+#include <spdlog/spdlog.h>
+
+#include "common/error.h"
+#include "map/keyframe.h"
+#include "map/map_point.h"
+#include "tracking/frame_matcher.h"
+
+namespace esdslam {
+
+const char* ToString(TrackingState state) {
+  switch (state) {
+    case TrackingState::kNotInitialized: return "NOT_INITIALIZED";
+    case TrackingState::kOk: return "OK";
+    case TrackingState::kLost: return "LOST";
+  }
+  return "?";
+}
+
+void TrackerOptions::Check() const {
+  if (min_initial_depth_keypoints < 1) throw Error("tracker: min_initial_depth_keypoints must be >= 1");
+  if (max_frames_between_keyframes < 1 || min_frames_between_keyframes < 0)
+    throw Error("tracker: keyframe frame limits must be positive");
+  if (!(motion_search_radius_px > 0) || !(local_search_radius_factor > 0))
+    throw Error("tracker: search radii must be positive");
+  if (min_local_map_inliers < 3 || min_pose_matches < 3) throw Error("tracker: inlier thresholds must be >= 3");
+  pose.Check();
+}
+
+Tracker::Tracker(Map* map, KeyFrameSink* sink, const TrackerOptions& options)
+    : map_(map), sink_(sink), options_(options) {
+  options_.Check();
+}
+
+TrackingResult Tracker::Track(Frame* frame) {
+  TrackingResult result;
+  {
+    std::lock_guard<std::mutex> lock(map_->update_mutex());
+    bool tracked = false;
+    if (state_ == TrackingState::kNotInitialized) {
+      tracked = Initialize(frame);
+      if (tracked) result.new_keyframe = last_keyframe_;
+    } else {
+      if (state_ == TrackingState::kOk) {
+        ReplaceMovedPointsInLastFrame();
+        if (velocity_valid_) tracked = TrackWithMotionModel(frame);
+        if (!tracked) tracked = TrackReferenceKeyFrame(frame);
+      } else {
+        tracked = TrackReferenceKeyFrame(frame);  // LOST: retry against the last local map
+      }
+      frame->reference_keyframe = reference_keyframe_;
+      if (tracked) tracked = TrackLocalMap(frame);
+      state_ = tracked ? TrackingState::kOk : TrackingState::kLost;
+      if (tracked && NeedNewKeyFrame(*frame)) result.new_keyframe = CreateNewKeyFrame(frame);
+    }
+    Finish(frame, tracked);
+    result.state = state_;
+    result.has_pose = frame->has_pose;
+    result.cam_from_world = frame->cam_from_world;
+    result.reference_keyframe = frame->reference_keyframe;
+    result.inliers = inliers_;
+  }
+  if (result.new_keyframe != nullptr) {
+    if (sink_ != nullptr) sink_->InsertKeyFrame(result.new_keyframe);
+    else map_->AddKeyFrame(result.new_keyframe);
+  }
+  return result;
+}
+
+bool Tracker::Initialize(Frame* frame) {
+  int usable = 0;
+  for (int i = 0; i < frame->size(); ++i) usable += frame->features().has_depth(i) && !frame->features().is_dynamic[i];
+  if (usable <= options_.min_initial_depth_keypoints) return false;
+  frame->cam_from_world = Rigid3::Identity();
+  frame->has_pose = true;
+  KeyFrame* keyframe = map_->CreateKeyFrame(frame->id(), frame->timestamp(), frame->shared_features(), frame->cam_from_world);
+  map_->AddKeyFrame(keyframe);
+  for (int i = 0; i < frame->size(); ++i) {
+    if (!frame->features().has_depth(i) || frame->features().is_dynamic[i]) continue;
+    frame->map_points[i] = CreatePointFromDepth(keyframe, *frame, i);
+  }
+  spdlog::info("tracking: map initialised with {} points from frame {}", map_->num_map_points(), frame->id());
+  frame->reference_keyframe = keyframe;
+  reference_keyframe_ = last_keyframe_ = keyframe;
+  last_keyframe_frame_id_ = frame->id();
+  local_keyframes_ = {keyframe};
+  local_points_ = keyframe->valid_map_points();
+  state_ = TrackingState::kOk;
+  velocity_valid_ = false;
+  inliers_ = static_cast<int>(local_points_.size());
+  return true;
+}
+
+// The last frame may hold points that local mapping has since fused into others.
+void Tracker::ReplaceMovedPointsInLastFrame() {
+  for (MapPoint*& point : last_frame_.map_points) {
+    if (point == nullptr) continue;
+    MapPoint* replacement = point->replaced_by();
+    if (replacement != point) point = replacement->is_bad() ? nullptr : replacement;
+  }
+}
+
+// Re-derives the last frame's pose from its reference keyframe (which local BA may have moved)
+// and adds temporary points from its close depth measurements so the motion model has matches
+// even where the map is thin.
+void Tracker::UpdateLastFrame() {
+  temporary_points_.clear();
+  KeyFrame* reference = LiveAncestor(last_frame_.reference_keyframe, &last_cam_from_reference_);
+  last_frame_.reference_keyframe = reference;
+  if (reference != nullptr && last_frame_.has_pose) last_frame_.cam_from_world = last_cam_from_reference_ * reference->cam_from_world();
+  if (!options_.last_frame_depth_points || last_keyframe_frame_id_ == last_frame_.id()) return;
+  const FeatureSet& features = last_frame_.features();
+  std::vector<std::pair<float, int>> by_depth;
+  for (int i = 0; i < last_frame_.size(); ++i)
+    if (features.has_depth(i) && !features.is_dynamic[i]) by_depth.emplace_back(features.depth[i], i);
+  std::sort(by_depth.begin(), by_depth.end());
+  const Rigid3 world_from_cam = last_frame_.cam_from_world.inverse();
+  int count = 0;
+  for (const auto& [depth, i] : by_depth) {
+    MapPoint* existing = last_frame_.map_points[i];
+    if (existing == nullptr || existing->num_observations() < 1) {
+      auto point = std::make_unique<MapPoint>(-1 - static_cast<long>(temporary_points_.size()),
+                                              world_from_cam * features.BackprojectCam(i), nullptr, map_);
+      point->set_descriptor(features.descriptors.row(i));
+      last_frame_.map_points[i] = point.get();
+      last_frame_.outlier[i] = false;
+      temporary_points_.push_back(std::move(point));
+    }
+    ++count;
+    if (depth > features.rig->th_depth_m && count > options_.max_depth_points) break;
+  }
+}
+
+bool Tracker::TrackWithMotionModel(Frame* frame) {
+  UpdateLastFrame();
+  frame->cam_from_world = velocity_ * last_frame_.cam_from_world;
+  std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);
+  int matches = SearchByProjection(frame, last_frame_, options_.motion_search_radius_px);
+  if (matches < options_.min_motion_matches) {
+    std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);
+    matches = SearchByProjection(frame, last_frame_, 2 * options_.motion_search_radius_px);
+  }
+  if (matches < options_.min_motion_matches) return false;
+  OptimizePose(frame);
+  return DiscardOutliers(frame) >= options_.min_pose_matches;
+}
+
+bool Tracker::TrackReferenceKeyFrame(Frame* frame) {
+  if (reference_keyframe_ == nullptr) return false;
+  Rigid3 unused;
+  if (reference_keyframe_->is_bad()) reference_keyframe_ = LiveAncestor(last_keyframe_, &unused);
+  std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);
+  const int matches = SearchKeyFrameBruteForce(*reference_keyframe_, frame);
+  if (matches < 15) return false;
+  frame->cam_from_world = has_last_good_pose_ ? last_good_cam_from_world_ : reference_keyframe_->cam_from_world();
+  OptimizePose(frame);
+  return DiscardOutliers(frame) >= options_.min_pose_matches;
+}
+
+int Tracker::OptimizePose(Frame* frame) {
+  const FeatureSet& features = frame->features();
+  std::vector<PoseObservation> observations;
+  std::vector<int> indices;
+  for (int i = 0; i < frame->size(); ++i) {
+    MapPoint* point = frame->map_points[i];
+    if (point == nullptr) continue;
+    PoseObservation observation;
+    observation.point_world = point->position();
+    observation.pixel = features.pixel(i);
+    observation.right_u = features.right_u[i];
+    observation.information = features.rig->pyramid.inv_level_sigma2[features.level(i)];
+    observation.outlier = frame->outlier[i];
+    observations.push_back(observation);
+    indices.push_back(i);
+  }
+  const int inliers = esdslam::OptimizePose(features.rig->camera, features.rig->bf, options_.pose, &observations,
+                                            &frame->cam_from_world);
+  for (std::size_t k = 0; k < indices.size(); ++k) frame->outlier[indices[k]] = observations[k].outlier;
+  return inliers;
+}
+
+// Drops outlier matches; returns the matches left with real (non-temporary) map points.
+int Tracker::DiscardOutliers(Frame* frame) {
+  int map_matches = 0;
+  for (int i = 0; i < frame->size(); ++i) {
+    MapPoint* point = frame->map_points[i];
+    if (point == nullptr) continue;
+    if (frame->outlier[i]) {
+      frame->map_points[i] = nullptr;
+      frame->outlier[i] = false;
+      point->track.in_view = false;
+      point->track.last_frame_seen = frame->id();
+    } else if (point->num_observations() > 0) {
+      ++map_matches;
+    }
+  }
+  return map_matches;
+}
+
+void Tracker::Finish(Frame* frame, bool tracked) {
+  frame->has_pose = tracked;
+  if (tracked) {
+    velocity_valid_ = last_frame_.valid() && last_frame_.has_pose;
+    if (velocity_valid_) velocity_ = frame->cam_from_world * last_frame_.cam_from_world.inverse();
+    for (int i = 0; i < frame->size(); ++i) {
+      MapPoint* point = frame->map_points[i];
+      if (point == nullptr) continue;
+      if (frame->outlier[i] || point->num_observations() < 1) frame->map_points[i] = nullptr;
+      frame->outlier[i] = false;
+    }
+    has_last_good_pose_ = true;
+    last_good_cam_from_world_ = frame->cam_from_world;
+    if (frame->reference_keyframe == nullptr) frame->reference_keyframe = reference_keyframe_;
+    last_cam_from_reference_ = frame->cam_from_world * frame->reference_keyframe->world_from_cam();
+  } else {
+    velocity_valid_ = false;
+    std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);
+  }
+  temporary_points_.clear();
+  last_frame_ = *frame;
+}
+
+}  // namespace esdslam

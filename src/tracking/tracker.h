@@ -1,0 +1,104 @@
+#pragma once
+// RGB-D tracking (ORB-SLAM2's Tracking, RGB-D path), run on the caller's thread:
+//   initialisation from the first frame with enough depth; constant-velocity motion model with
+//   projection search from the last frame (plus temporary depth points of the last frame);
+//   reference-keyframe matching as fallback; local-map tracking (covisible keyframes, projection
+//   search, motion-only BA); keyframe decision and creation (with close points from depth).
+// While LOST the tracker keeps trying to match the last reference keyframe's local map; frames
+// without a pose get none (no pose is invented).
+//
+// Locking: Track() holds Map::update_mutex() for the whole step; new keyframes are handed to the
+// KeyFrameSink after the lock is released.
+
+#include <memory>
+#include <vector>
+
+#include "map/keyframe_sink.h"
+#include "map/map.h"
+#include "optim/pose_optimizer.h"
+#include "tracking/frame.h"
+
+namespace esdslam {
+
+enum class TrackingState { kNotInitialized, kOk, kLost };
+const char* ToString(TrackingState state);
+
+struct TrackerOptions {
+  int min_initial_depth_keypoints = 500;  // keypoints with depth needed to initialise the map
+  int max_frames_between_keyframes = 30;  // ORB-SLAM2: fps
+  int min_frames_between_keyframes = 0;
+  double motion_search_radius_px = 15;    // projection window from the last frame (doubled on failure)
+  double local_search_radius_factor = 3;  // ORB-SLAM2 RGB-D: th = 3
+  int min_motion_matches = 20;            // projection matches needed before pose optimisation
+  int min_pose_matches = 10;              // map matches left after optimisation
+  int min_local_map_inliers = 30;         // tracking is LOST below this
+  int max_local_keyframes = 80;
+  bool last_frame_depth_points = true;    // temporary points from the last frame's close depth
+  int max_depth_points = 100;             // close points per keyframe / temporary points
+  PoseOptimizerOptions pose;
+  void Check() const;
+};
+
+// Per-step outcome, for logging and timing.
+struct TrackingResult {
+  TrackingState state = TrackingState::kNotInitialized;
+  bool has_pose = false;
+  Rigid3 cam_from_world;
+  KeyFrame* reference_keyframe = nullptr;  // for has_pose: pose stored relative to it
+  KeyFrame* new_keyframe = nullptr;        // created in this step (already handed to the sink)
+  int inliers = 0;
+};
+
+class Tracker {
+ public:
+  // `sink` may be null (no local mapping: keyframes are only added to the map).
+  Tracker(Map* map, KeyFrameSink* sink, const TrackerOptions& options);
+
+  // Tracks the frame (sets its pose, associations, reference keyframe).
+  TrackingResult Track(Frame* frame);
+
+  TrackingState state() const { return state_; }
+  const Frame& last_frame() const { return last_frame_; }
+  const std::vector<KeyFrame*>& local_keyframes() const { return local_keyframes_; }
+  const std::vector<MapPoint*>& local_points() const { return local_points_; }
+
+ private:
+  // Steps (tracker.cpp).
+  bool Initialize(Frame* frame);
+  bool TrackWithMotionModel(Frame* frame);
+  bool TrackReferenceKeyFrame(Frame* frame);
+  void UpdateLastFrame();
+  void ReplaceMovedPointsInLastFrame();
+  int OptimizePose(Frame* frame);
+  int DiscardOutliers(Frame* frame);
+  void Finish(Frame* frame, bool tracked);
+  // Local map (tracker_local_map.cpp).
+  bool TrackLocalMap(Frame* frame);
+  void UpdateLocalKeyFrames(Frame* frame);
+  void UpdateLocalPoints(const Frame& frame);
+  void SearchLocalPoints(Frame* frame);
+  bool NeedNewKeyFrame(const Frame& frame) const;
+  KeyFrame* CreateNewKeyFrame(Frame* frame);
+  MapPoint* CreatePointFromDepth(KeyFrame* keyframe, const Frame& frame, int index);
+
+  Map* map_;
+  KeyFrameSink* sink_;
+  TrackerOptions options_;
+
+  TrackingState state_ = TrackingState::kNotInitialized;
+  Frame last_frame_;
+  Rigid3 last_cam_from_reference_;  // last_frame_'s pose relative to its reference keyframe
+  bool velocity_valid_ = false;
+  Rigid3 velocity_;  // current cam_from_last cam
+  bool has_last_good_pose_ = false;
+  Rigid3 last_good_cam_from_world_;
+  KeyFrame* reference_keyframe_ = nullptr;
+  KeyFrame* last_keyframe_ = nullptr;
+  long last_keyframe_frame_id_ = -1;
+  int inliers_ = 0;
+  std::vector<KeyFrame*> local_keyframes_;
+  std::vector<MapPoint*> local_points_;
+  std::vector<std::unique_ptr<MapPoint>> temporary_points_;  // depth points of the last frame
+};
+
+}  // namespace esdslam

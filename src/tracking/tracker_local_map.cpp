@@ -1,0 +1,171 @@
+// Tracker: local-map tracking and keyframe decision / creation.
+#include <algorithm>
+#include <map>
+
+#include "map/keyframe.h"
+#include "map/map_point.h"
+#include "tracking/frame_matcher.h"
+#include "tracking/tracker.h"
+
+namespace esdslam {
+
+bool Tracker::TrackLocalMap(Frame* frame) {
+  UpdateLocalKeyFrames(frame);
+  UpdateLocalPoints(*frame);
+  SearchLocalPoints(frame);
+  OptimizePose(frame);
+  inliers_ = 0;
+  for (int i = 0; i < frame->size(); ++i) {
+    MapPoint* point = frame->map_points[i];
+    if (point == nullptr || frame->outlier[i]) continue;
+    point->IncreaseFound();
+    if (point->num_observations() > 0) ++inliers_;
+  }
+  return inliers_ >= options_.min_local_map_inliers;
+}
+
+// Local keyframes: those observing the frame's points, then up to 10 best covisible keyframes,
+// a child and the parent of each. The reference keyframe is the one sharing the most points.
+void Tracker::UpdateLocalKeyFrames(Frame* frame) {
+  std::map<KeyFrame*, int, KeyFrameIdLess> counts;
+  for (int i = 0; i < frame->size(); ++i) {
+    MapPoint* point = frame->map_points[i];
+    if (point == nullptr) continue;
+    if (point->is_bad()) {
+      frame->map_points[i] = nullptr;
+      continue;
+    }
+    for (const auto& [keyframe, index] : point->observations()) {
+      (void)index;
+      ++counts[keyframe];
+    }
+  }
+  if (counts.empty()) return;
+  local_keyframes_.clear();
+  KeyFrame* best = nullptr;
+  int best_count = 0;
+  for (const auto& [keyframe, count] : counts) {
+    if (keyframe->is_bad()) continue;
+    if (count > best_count) best_count = count, best = keyframe;
+    local_keyframes_.push_back(keyframe);
+    keyframe->track.local_for_frame = frame->id();
+  }
+  const std::vector<KeyFrame*> first_ring = local_keyframes_;
+  const auto try_add = [&](KeyFrame* keyframe) {
+    if (keyframe == nullptr || keyframe->is_bad() || keyframe->track.local_for_frame == frame->id()) return false;
+    keyframe->track.local_for_frame = frame->id();
+    local_keyframes_.push_back(keyframe);
+    return true;
+  };
+  for (KeyFrame* keyframe : first_ring) {
+    if (static_cast<int>(local_keyframes_.size()) >= options_.max_local_keyframes) break;
+    for (KeyFrame* neighbour : keyframe->BestCovisibleKeyframes(10))
+      if (try_add(neighbour)) break;
+    for (KeyFrame* child : keyframe->children())
+      if (try_add(child)) break;
+    try_add(keyframe->parent());
+  }
+  if (best != nullptr) {
+    reference_keyframe_ = best;
+    frame->reference_keyframe = best;
+  }
+}
+
+void Tracker::UpdateLocalPoints(const Frame& frame) {
+  local_points_.clear();
+  for (KeyFrame* keyframe : local_keyframes_)
+    for (MapPoint* point : keyframe->valid_map_points()) {
+      if (point->track.local_for_frame == frame.id()) continue;
+      point->track.local_for_frame = frame.id();
+      local_points_.push_back(point);
+    }
+}
+
+void Tracker::SearchLocalPoints(Frame* frame) {
+  for (int i = 0; i < frame->size(); ++i) {
+    MapPoint* point = frame->map_points[i];
+    if (point == nullptr) continue;
+    if (point->is_bad()) {
+      frame->map_points[i] = nullptr;
+      continue;
+    }
+    point->IncreaseVisible();
+    point->track.last_frame_seen = frame->id();
+    point->track.in_view = false;
+  }
+  int in_view = 0;
+  for (MapPoint* point : local_points_) {
+    if (point->track.last_frame_seen == frame->id() || point->is_bad()) continue;
+    if (frame->IsInFrustum(point, 0.5)) {
+      point->IncreaseVisible();
+      ++in_view;
+    }
+  }
+  if (in_view > 0) esdslam::SearchLocalPoints(frame, local_points_, options_.local_search_radius_factor);
+}
+
+// ORB-SLAM2's RGB-D rule: insert when the frame tracks few close points but could add many, or
+// when too many frames passed, or tracking weakened relative to the reference keyframe.
+bool Tracker::NeedNewKeyFrame(const Frame& frame) const {
+  const int num_keyframes = map_->num_keyframes();
+  const int min_observations = num_keyframes <= 2 ? 2 : 3;
+  const int reference_matches = reference_keyframe_->TrackedMapPoints(min_observations);
+  const bool mapping_idle = sink_ == nullptr || sink_->AcceptsKeyFrames();
+  int tracked_close = 0, untracked_close = 0;
+  for (int i = 0; i < frame.size(); ++i) {
+    if (!frame.features().is_close(i) || frame.features().is_dynamic[i]) continue;
+    if (frame.map_points[i] != nullptr && !frame.outlier[i]) ++tracked_close;
+    else ++untracked_close;
+  }
+  const bool need_close = tracked_close < 100 && untracked_close > 70;
+  const double ref_ratio = num_keyframes < 2 ? 0.4 : 0.75;
+  const long since_last = frame.id() - last_keyframe_frame_id_;
+  const bool too_long = since_last >= options_.max_frames_between_keyframes;
+  const bool idle_and_due = since_last >= options_.min_frames_between_keyframes && mapping_idle;
+  const bool weak = inliers_ < reference_matches * 0.25 || need_close;
+  const bool enough_new = (inliers_ < reference_matches * ref_ratio || need_close) && inliers_ > 15;
+  if (!((too_long || idle_and_due || weak) && enough_new)) return false;
+  if (mapping_idle) return true;
+  sink_->InterruptBundleAdjustment();
+  return sink_->QueuedKeyFrames() < 3;
+}
+
+KeyFrame* Tracker::CreateNewKeyFrame(Frame* frame) {
+  KeyFrame* keyframe = map_->CreateKeyFrame(frame->id(), frame->timestamp(), frame->shared_features(), frame->cam_from_world);
+  for (int i = 0; i < frame->size(); ++i) {
+    MapPoint* point = frame->map_points[i];
+    if (point != nullptr && !frame->outlier[i] && !point->is_bad() && point->num_observations() > 0)
+      keyframe->AddMapPoint(point, i);
+  }
+  const FeatureSet& features = frame->features();
+  std::vector<std::pair<float, int>> by_depth;
+  for (int i = 0; i < frame->size(); ++i)
+    if (features.has_depth(i) && !features.is_dynamic[i]) by_depth.emplace_back(features.depth[i], i);
+  std::sort(by_depth.begin(), by_depth.end());
+  int count = 0;
+  for (const auto& [depth, i] : by_depth) {
+    if (keyframe->map_point(i) == nullptr) {
+      frame->map_points[i] = CreatePointFromDepth(keyframe, *frame, i);
+      frame->outlier[i] = false;
+    }
+    ++count;
+    if (depth > features.rig->th_depth_m && count > options_.max_depth_points) break;
+  }
+  reference_keyframe_ = last_keyframe_ = keyframe;
+  frame->reference_keyframe = keyframe;
+  last_keyframe_frame_id_ = frame->id();
+  return keyframe;
+}
+
+MapPoint* Tracker::CreatePointFromDepth(KeyFrame* keyframe, const Frame& frame, int index) {
+  const Vec3 position_world = frame.cam_from_world.inverse() * frame.features().BackprojectCam(index);
+  MapPoint* point = map_->CreateMapPoint(position_world, keyframe);
+  point->AddObservation(keyframe, index, true);
+  keyframe->AddMapPoint(point, index);
+  point->ComputeDistinctiveDescriptor();
+  point->UpdateNormalAndDepth();
+  map_->AddMapPoint(point);
+  return point;
+}
+
+}  // namespace esdslam

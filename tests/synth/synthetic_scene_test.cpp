@@ -1,0 +1,220 @@
+// Known-answer tests of the synthetic scene generator: multi-view depth consistency, exact
+// masks, determinism, texture quality for FAST, and the camera motion limits.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "common/error.h"
+#include "synth/sequence_writer.h"
+#include "synth/synthetic_scene.h"
+
+namespace esdslam {
+namespace {
+
+// Quarter resolution (320x240) keeps the tests fast; the geometry is the same.
+SynthOptions SmallOptions(const std::string& preset, int frames) {
+  SynthOptions options = SynthPreset(preset);
+  options.num_frames = frames;
+  options.intrinsics.width = 320;
+  options.intrinsics.height = 240;
+  options.intrinsics.fx = options.intrinsics.fy = 262.5;
+  options.intrinsics.cx = 159.5;
+  options.intrinsics.cy = 119.5;
+  return options;
+}
+
+cv::Mat Quantised(const cv::Mat& depth_m) { return Png16ToDepth(DepthToPng16(depth_m)); }
+
+struct ReprojectionStats {
+  int checked = 0;
+  double max_error = 0;  // metres
+};
+
+// Back-projects every static pixel of frame i (quantised depth as stored in the PNG), moves it
+// into frame j with `j_from_i` and compares its depth with frame j's quantised depth, inverse-
+// depth interpolated between the 4 pixels around the projection (exact on a plane). Only
+// projections whose 4 neighbours see the same plane (surface id) and no mover are compared.
+ReprojectionStats Reproject(const SyntheticScene& scene, const SynthFrame& fi, const SynthFrame& fj,
+                            const Rigid3& j_from_i) {
+  const PinholeCamera& camera = scene.camera();
+  const cv::Mat zi = Quantised(fi.depth_m), zj = Quantised(fj.depth_m);
+  ReprojectionStats stats;
+  for (int v = 0; v < zi.rows; ++v) {
+    for (int u = 0; u < zi.cols; ++u) {
+      const float z = zi.at<float>(v, u);
+      if (z <= 0 || fi.mover_mask.at<uchar>(v, u) != 0) continue;
+      const Vec3 p_j = j_from_i * camera.Backproject(Vec2(u, v), z);
+      if (p_j.z() < 0.1) continue;
+      const Vec2 pixel = camera.Project(p_j);
+      const int u0 = static_cast<int>(std::floor(pixel.x())), v0 = static_cast<int>(std::floor(pixel.y()));
+      if (u0 < 0 || v0 < 0 || u0 + 1 >= zj.cols || v0 + 1 >= zj.rows) continue;
+      const int surface = fi.surface_id.at<int>(v, u);
+      bool same_plane = true;
+      double inv[2][2];
+      for (int dv = 0; dv < 2; ++dv) {
+        for (int du = 0; du < 2; ++du) {
+          const float zn = zj.at<float>(v0 + dv, u0 + du);
+          same_plane = same_plane && zn > 0 && fj.surface_id.at<int>(v0 + dv, u0 + du) == surface;
+          inv[dv][du] = zn > 0 ? 1.0 / zn : 0.0;
+        }
+      }
+      if (!same_plane) continue;
+      const double a = pixel.x() - u0, b = pixel.y() - v0;
+      const double inv_z = (1 - b) * ((1 - a) * inv[0][0] + a * inv[0][1]) + b * ((1 - a) * inv[1][0] + a * inv[1][1]);
+      stats.max_error = std::max(stats.max_error, std::abs(1.0 / inv_z - p_j.z()));
+      ++stats.checked;
+    }
+  }
+  return stats;
+}
+
+TEST(SyntheticScene, StaticDepthReprojectsIntoOtherFramesWithinQuantisation) {
+  const SyntheticScene scene(SmallOptions("dynamic", 40));
+  const int pairs[][2] = {{0, 3}, {5, 20}, {12, 39}, {39, 0}};
+  for (const auto& pair : pairs) {
+    const SynthFrame fi = scene.RenderFrame(pair[0]);
+    const SynthFrame fj = scene.RenderFrame(pair[1]);
+    const Rigid3 j_from_i = fj.world_from_cam.inverse() * fi.world_from_cam;
+    const ReprojectionStats stats = Reproject(scene, fi, fj, j_from_i);
+    EXPECT_GT(stats.checked, fi.depth_m.total() / 4) << pair[0] << "->" << pair[1];
+    // Two 1/5000 m quantisations (frame i and frame j) and the ray through them.
+    EXPECT_LT(stats.max_error, 6e-4) << pair[0] << "->" << pair[1];
+    // The check is sensitive: a ~1 cm pose error is far outside the tolerance.
+    const Rigid3 wrong = Rigid3(Quat::Identity(), Vec3(0.005, 0, 0.01)) * j_from_i;
+    EXPECT_GT(Reproject(scene, fi, fj, wrong).max_error, 5e-3);
+  }
+}
+
+TEST(SyntheticScene, SameSeedGivesIdenticalImagesOtherSeedDiffers) {
+  SynthOptions options = SmallOptions("dynamic", 20);
+  options.depth_noise_at_1m = 0.002;
+  const SynthFrame a = SyntheticScene(options).RenderFrame(7);
+  const SynthFrame b = SyntheticScene(options).RenderFrame(7);
+  EXPECT_EQ(cv::norm(a.bgr, b.bgr, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(a.depth_m, b.depth_m, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(a.mover_mask, b.mover_mask, cv::NORM_INF), 0.0);
+  options.seed = 2;
+  const SynthFrame c = SyntheticScene(options).RenderFrame(7);
+  EXPECT_GT(cv::norm(a.bgr, c.bgr, cv::NORM_L1) / a.bgr.total(), 20.0);
+}
+
+TEST(SyntheticScene, DepthNoiseHasRequestedSpread) {
+  SynthOptions options = SmallOptions("static", 5);
+  const SyntheticScene exact_scene(options);
+  options.depth_noise_at_1m = 0.003;
+  const SyntheticScene noisy_scene(options);
+  const SynthFrame exact = exact_scene.RenderFrame(2), noisy = noisy_scene.RenderFrame(2);
+  double sum_sq = 0;  // of the normalised error (z_noisy - z) / (0.003 z^2)
+  int n = 0;
+  for (int v = 0; v < exact.depth_m.rows; ++v) {
+    for (int u = 0; u < exact.depth_m.cols; ++u) {
+      const double z = exact.depth_m.at<float>(v, u), zn = noisy.depth_m.at<float>(v, u);
+      if (z <= 0 || zn <= 0) continue;
+      const double e = (zn - z) / (0.003 * z * z);
+      sum_sq += e * e;
+      ++n;
+    }
+  }
+  ASSERT_GT(n, 10000);
+  EXPECT_NEAR(std::sqrt(sum_sq / n), 1.0, 0.05);
+}
+
+TEST(SyntheticScene, MoverMaskMarksExactlyThePixelsWhereAMoverIsTheNearestSurface) {
+  const SyntheticScene scene(SmallOptions("dynamic", 30));
+  ASSERT_EQ(scene.num_movers(), 3);
+  int mover_pixels = 0;
+  for (const int index : {0, 14, 29}) {
+    const SynthFrame frame = scene.RenderFrame(index);
+    const double time = scene.FrameTime(index);
+    for (int v = 0; v < frame.depth_m.rows; v += 2) {
+      for (int u = 0; u < frame.depth_m.cols; u += 2) {
+        const Vec3 dir = frame.world_from_cam.rotation() * scene.camera().Backproject(Vec2(u, v), 1.0);
+        const Vec3 origin = frame.world_from_cam.translation();
+        const int id = frame.mover_mask.at<uchar>(v, u);
+        const double depth = frame.depth_m.at<float>(v, u);
+        for (int k = 1; k <= scene.num_movers(); ++k) {
+          const int box = scene.MoverBox(k);
+          const Rigid3 box_from_world = scene.WorldFromBox(box, time).inverse();
+          double t = 0;
+          int face = 0;
+          const bool hit = IntersectBox(scene.boxes()[box], box_from_world * origin, box_from_world.rotation() * dir,
+                                        1e-9, &t, &face);
+          if (id == k) {
+            ASSERT_TRUE(hit) << "mask says mover " << k << " at " << u << "," << v;
+            EXPECT_NEAR(t, depth, 1e-5);  // ray parameter = depth since dir has z = 1 in the camera
+            ++mover_pixels;
+          } else if (hit) {
+            EXPECT_GT(t, depth - 1e-5) << "mover " << k << " in front but not in the mask at " << u << "," << v;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(mover_pixels, 1000);
+}
+
+TEST(SyntheticScene, TexturedFrameHasFastCornersInEveryCell) {
+  SynthOptions options = SynthPreset("dynamic");
+  options.num_frames = 240;
+  const SyntheticScene scene(options);
+  for (const int index : {0, 120, 239}) {
+    const SynthFrame frame = scene.RenderFrame(index);
+    cv::Mat grey;
+    cv::cvtColor(frame.bgr, grey, cv::COLOR_BGR2GRAY);
+    std::vector<cv::KeyPoint> corners;
+    cv::FAST(grey, corners, 20, true);
+    int cells[4][4] = {};
+    for (const auto& kp : corners) cells[static_cast<int>(kp.pt.y * 4 / grey.rows)][static_cast<int>(kp.pt.x * 4 / grey.cols)]++;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) EXPECT_GE(cells[r][c], 20) << "frame " << index << " cell " << r << "," << c;
+  }
+}
+
+// Largest speed (m/s) and rotation rate (deg/s) between consecutive frames.
+void MotionLimits(const SyntheticScene& scene, double* max_speed, double* max_rate) {
+  *max_speed = *max_rate = 0;
+  for (int i = 1; i < scene.num_frames(); ++i) {
+    const Rigid3 delta = scene.WorldFromCam(i - 1).inverse() * scene.WorldFromCam(i);
+    *max_speed = std::max(*max_speed, delta.translation().norm() * scene.options().fps);
+    *max_rate = std::max(*max_rate, RotationAngle(delta.rotation()) * 180 / M_PI * scene.options().fps);
+  }
+}
+
+TEST(SyntheticScene, TrajectoriesMoveLikeAHandheldCameraAndTheLoopCloses) {
+  for (const char* preset : {"static", "loop"}) {
+    const SyntheticScene scene(SynthPreset(preset));
+    double speed, rate;
+    MotionLimits(scene, &speed, &rate);
+    EXPECT_GT(speed, 0.15) << preset;
+    EXPECT_LT(speed, 0.6) << preset;
+    EXPECT_LT(rate, 35.0) << preset;
+  }
+  const SyntheticScene loop(SynthPreset("loop"));
+  const Rigid3 start_from_end = loop.WorldFromCam(0).inverse() * loop.WorldFromCam(loop.num_frames() - 1);
+  EXPECT_LT(start_from_end.translation().norm(), 1e-9);
+  EXPECT_LT(RotationAngle(start_from_end.rotation()), 1e-9);
+  const Rigid3 half = loop.WorldFromCam(0).inverse() * loop.WorldFromCam(loop.num_frames() / 2);
+  EXPECT_GT(RotationAngle(half.rotation()), 3.0);  // about half a turn in the middle
+}
+
+TEST(SyntheticScene, OptionsAreChecked) {
+  EXPECT_THROW(SynthPreset("crowd"), Error);
+  SynthOptions options;
+  options.trajectory = "spiral";
+  EXPECT_THROW(options.Check(), Error);
+  options = SynthOptions();
+  options.num_movers = 5;
+  EXPECT_THROW(options.Check(), Error);
+  options = SynthOptions();
+  options.depth_time_offset = 0.03;
+  EXPECT_THROW(options.Check(), Error);
+  options = SynthOptions();
+  options.intrinsics.k1 = 0.1;
+  EXPECT_THROW(SyntheticScene scene(options), Error);
+  EXPECT_NO_THROW(SynthPreset("loop").Check());
+}
+
+}  // namespace
+}  // namespace esdslam
