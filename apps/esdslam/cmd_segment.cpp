@@ -34,7 +34,10 @@ double TimestampFromName(const std::filesystem::path& image) {
 
 int RunSegment(const SegmentArgs& args) {
   SemanticSettings settings = LoadSemanticSettings(args.settings);
-  if (!args.model.empty()) settings.onnx.model_path = ResolveModelPath(args.model);
+  if (!args.model.empty()) {
+    SetModel(settings, args.model);
+    settings.onnx.Check();
+  }
   const auto segmenter = MakeSegmenter(settings);
   const ClassGroups groups(settings.groups);
   std::filesystem::create_directories(args.out_dir);

@@ -57,8 +57,8 @@ Vec6 Rigid3::Log() const {
 }
 
 double RotationAngle(const Quat& rotation) {
-  const double w = std::min(1.0, std::abs(rotation.normalized().w()));
-  return 2.0 * std::acos(w);
+  // atan2 keeps full precision for tiny angles, where acos(w) rounds to 0.
+  return 2.0 * std::atan2(rotation.vec().norm(), std::abs(rotation.w()));
 }
 
 }  // namespace esdslam

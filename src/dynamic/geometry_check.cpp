@@ -35,20 +35,28 @@ double ParallaxDeg(const Vec3& point, const Vec3& centre_a, const Vec3& centre_b
   return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI;
 }
 
-// True when the keyframe's depth shows the current pixel's 3-D point where it is now: the
-// occluder was already there, so the occlusion comes from the viewpoint change, not motion.
-bool OccluderSeenByKeyframe(const PinholeCamera& camera, const ReferenceKeyframe& keyframe, const Vec3& occluder_world,
-                            const GeometryCheckOptions& options) {
-  if (keyframe.depth_m.empty()) return false;
-  const Vec3 in_keyframe = keyframe.world_from_cam.inverse() * occluder_world;
-  if (in_keyframe.z() < options.min_depth_m) return false;
-  const Vec2 projected = camera.Project(in_keyframe);
-  const cv::Point pixel(static_cast<int>(std::lround(projected.x())), static_cast<int>(std::lround(projected.y())));
-  if (pixel.x < 0 || pixel.y < 0 || pixel.x >= keyframe.depth_m.cols || pixel.y >= keyframe.depth_m.rows) return false;
-  float near, far;
-  if (!WindowDepthRange(keyframe.depth_m, pixel, options.window_radius_px, &near, &far)) return false;
-  const double tolerance = Threshold(in_keyframe.z(), options);
-  return near - tolerance <= in_keyframe.z() && in_keyframe.z() <= far + tolerance;
+// Whether the current pixel's 3-D point (the occluder) was already there when the reference
+// keyframes were taken: at least one keyframe depth image confirms it (measured within tau of
+// its expected depth) and none contradicts it (measured clearly behind it: that keyframe saw
+// through the place where the occluder is now). Then the occlusion is due to the viewpoint
+// change, not to motion. Keyframes without depth or not seeing the point abstain.
+bool OccluderIsStatic(const PinholeCamera& camera, const std::vector<ReferenceKeyframe>& keyframes,
+                      const Vec3& occluder_world, const GeometryCheckOptions& options) {
+  int confirmations = 0;
+  for (const ReferenceKeyframe& keyframe : keyframes) {
+    if (keyframe.depth_m.empty()) continue;
+    const Vec3 in_keyframe = keyframe.world_from_cam.inverse() * occluder_world;
+    if (in_keyframe.z() < options.min_depth_m) continue;
+    const Vec2 projected = camera.Project(in_keyframe);
+    const cv::Point pixel(static_cast<int>(std::lround(projected.x())), static_cast<int>(std::lround(projected.y())));
+    if (pixel.x < 0 || pixel.y < 0 || pixel.x >= keyframe.depth_m.cols || pixel.y >= keyframe.depth_m.rows) continue;
+    float near, far;
+    if (!WindowDepthRange(keyframe.depth_m, pixel, options.window_radius_px, &near, &far)) continue;
+    const double tolerance = Threshold(in_keyframe.z(), options);
+    if (near - in_keyframe.z() > tolerance) return false;  // seen through: it moved in since
+    if (near - tolerance <= in_keyframe.z() && in_keyframe.z() <= far + tolerance) ++confirmations;
+  }
+  return confirmations > 0;
 }
 
 void TestKeyframePoints(const PinholeCamera& camera, const Rigid3& cam_from_world, const cv::Mat& depth_m,
@@ -78,14 +86,14 @@ void TestKeyframePoints(const PinholeCamera& camera, const Rigid3& cam_from_worl
     const FlaggedPoint flag{k, i, pixel, z_proj, measured};
     if (z_proj - far > tau) {
       const Vec3 occluder = world_from_cam * camera.Backproject(Vec2(pixel.x, pixel.y), measured);
-      if (!OccluderSeenByKeyframe(camera, keyframe, occluder, options)) result.dynamic_points.push_back(flag);
+      if (!OccluderIsStatic(camera, keyframes, occluder, options)) result.dynamic_points.push_back(flag);
     } else if (near - z_proj > tau) {
       result.vanished_points.push_back(flag);
     }
   }
 }
 
-// Region growing from clusters of flagged pixels.
+// Region growing from clusters of flagged pixels, within mask_radius_px of the cluster's flags.
 cv::Mat MaskFromFlags(const cv::Mat& depth_m, const std::vector<FlaggedPoint>& flags, const GeometryCheckOptions& options) {
   cv::Mat mask = cv::Mat::zeros(depth_m.size(), CV_8U);
   if (flags.empty()) return mask;
@@ -101,16 +109,21 @@ cv::Mat MaskFromFlags(const cv::Mat& depth_m, const std::vector<FlaggedPoint>& f
     depths[label].push_back(static_cast<float>(flag.measured_depth_m));
   }
   const cv::Rect image(0, 0, depth_m.cols, depth_m.rows);
+  const int radius = options.mask_radius_px;
+  cv::Mat allowed = cv::Mat::zeros(depth_m.size(), CV_8U);
+  for (int label = 1; label < num_labels; ++label) {
+    if (static_cast<int>(seeds[label].size()) < options.min_cluster_points) continue;
+    for (const auto& seed : seeds[label]) cv::circle(allowed, seed, radius, 255, cv::FILLED);
+  }
   for (int label = 1; label < num_labels; ++label) {
     if (static_cast<int>(seeds[label].size()) < options.min_cluster_points) continue;
     const cv::Rect cluster(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
                            stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
-    const int mx = 16 + static_cast<int>(options.growth_margin_fraction * cluster.width);
-    const int my = 16 + static_cast<int>(options.growth_margin_fraction * cluster.height);
-    const cv::Rect box = cv::Rect(cluster.x - mx, cluster.y - my, cluster.width + 2 * mx, cluster.height + 2 * my) & image;
+    const cv::Rect box =
+        cv::Rect(cluster.x - radius, cluster.y - radius, cluster.width + 2 * radius, cluster.height + 2 * radius) & image;
     auto& d = depths[label];
     std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-    GrowDepthRegion(depth_m, seeds[label], box, d[d.size() / 2], options.growing, mask);
+    GrowDepthRegion(depth_m, seeds[label], box, d[d.size() / 2], options.growing, mask, allowed);
   }
   return mask;
 }
@@ -122,8 +135,8 @@ void GeometryCheckOptions::Check() const {
   if (!(abs_threshold_m > 0) || !(depth_sq_threshold >= 0))
     throw Error("geometry check: abs_threshold_m must be > 0 and depth_sq_threshold >= 0");
   if (!(min_depth_m >= 0 && max_depth_m > min_depth_m)) throw Error("geometry check: need 0 <= min_depth_m < max_depth_m");
-  if (window_radius_px < 0 || cluster_radius_px < 1 || min_cluster_points < 1 || !(growth_margin_fraction >= 0))
-    throw Error("geometry check: window_radius_px >= 0, cluster_radius_px >= 1, min_cluster_points >= 1");
+  if (window_radius_px < 0 || cluster_radius_px < 1 || min_cluster_points < 1 || mask_radius_px < 1)
+    throw Error("geometry check: need window_radius_px >= 0 and cluster_radius_px, min_cluster_points, mask_radius_px >= 1");
   growing.Check();
 }
 

@@ -15,13 +15,15 @@
 // fixed 0.4 m; depth noise and pose error both grow with depth, so we let tau grow with z^2.
 // The measured depth is compared over a (2r+1)^2 window: flagged only if every valid depth in
 // the window is in front (no flags from projections that land next to a depth edge).
-// If a reference keyframe carries its depth image, a flagged pixel whose 3-D point the keyframe
-// already saw at the same place (occluder present in both views) is a static occlusion and not
-// flagged.
+// If reference keyframes carry their depth images, a candidate pixel whose 3-D point (the
+// occluder) some keyframe already saw at the same place, and no keyframe saw through, is a
+// static occlusion (viewpoint change) and not flagged. An object sliding along its own surface
+// can be confirmed by a recent keyframe, but older keyframes usually saw through it.
 //
 // The dynamic mask grows depth regions (dynamic/region_growing.h) from clusters of flagged
 // pixels: flags within cluster_radius_px of each other form a cluster; clusters with fewer than
-// min_cluster_points flags are ignored for the mask (isolated flags are usually noise).
+// min_cluster_points flags are ignored for the mask (isolated flags are usually noise). Growth
+// stays within mask_radius_px of the cluster's flags (limits leaks into the floor at the feet).
 
 #include <vector>
 
@@ -48,7 +50,7 @@ struct GeometryCheckOptions {
   int window_radius_px = 1;          // measured depth window (2r+1)^2
   int cluster_radius_px = 24;
   int min_cluster_points = 3;
-  double growth_margin_fraction = 0.5;  // mask growth box: cluster box + this * its size + 16 px
+  int mask_radius_px = 32;           // the mask grows only within this distance of a flagged pixel
   RegionGrowingOptions growing;
 
   void Check() const;  // throws esdslam::Error

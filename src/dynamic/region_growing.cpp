@@ -14,52 +14,78 @@ double NeighbourTolerance(double z, const RegionGrowingOptions& options) {
   return options.abs_tolerance_m + options.depth_sq_tolerance * z * z;
 }
 
-double Median(std::vector<float> values) {
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
+cv::Mat Ellipse(int radius) {
+  return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
 }
 
-cv::Rect GrowthBox(const cv::Rect& component_box, const cv::Size& image_size, const RegionGrowingOptions& options) {
-  const int mx = options.box_margin_px + static_cast<int>(options.box_margin_fraction * component_box.width);
-  const int my = options.box_margin_px + static_cast<int>(options.box_margin_fraction * component_box.height);
-  const cv::Rect box(component_box.x - mx, component_box.y - my, component_box.width + 2 * mx,
-                     component_box.height + 2 * my);
-  return box & cv::Rect(0, 0, image_size.width, image_size.height);
-}
+struct SeedGroup {
+  std::vector<cv::Point> seeds;
+  double median_depth_m = 0;
+};
 
-// Seeds of component `label`: pixels of seed_source (the eroded mask, or the mask itself) with valid depth near the median depth.
-std::vector<cv::Point> ComponentSeeds(const cv::Mat& labels, int label, const cv::Rect& box, const cv::Mat& seed_source,
-                                      const cv::Mat& depth_m, const RegionGrowingOptions& options, double* median) {
-  std::vector<cv::Point> candidates;
-  std::vector<float> depths;
-  for (int v = box.y; v < box.y + box.height; ++v) {
-    const int* label_row = labels.ptr<int>(v);
-    const uchar* source_row = seed_source.ptr<uchar>(v);
-    const float* depth_row = depth_m.ptr<float>(v);
-    for (int u = box.x; u < box.x + box.width; ++u) {
-      if (label_row[u] != label || !source_row[u] || !(depth_row[u] > 0)) continue;
-      candidates.emplace_back(u, v);
-      depths.push_back(depth_row[u]);
+// Seed candidates of component `label` inside `box`: its centre region (the component eroded by
+// a radius that grows with its size; the whole component if erosion leaves nothing) with valid
+// depth, as (depth, pixel) sorted by depth.
+std::vector<std::pair<float, cv::Point>> CoreSeeds(const cv::Mat& labels, int label, const cv::Rect& box,
+                                                  const cv::Mat& depth_m, const RegionGrowingOptions& options) {
+  const cv::Mat component = labels(box) == label;
+  const int radius = std::max(options.seed_erosion_px,
+                              static_cast<int>(options.seed_core_fraction * std::min(box.width, box.height)));
+  cv::Mat core;
+  cv::erode(component, core, Ellipse(radius));
+  if (cv::countNonZero(core) == 0) core = component;
+  std::vector<std::pair<float, cv::Point>> candidates;
+  for (int y = 0; y < box.height; ++y) {
+    const uchar* core_row = core.ptr<uchar>(y);
+    const float* depth_row = depth_m.ptr<float>(box.y + y);
+    for (int x = 0; x < box.width; ++x) {
+      if (core_row[x] && depth_row[box.x + x] > 0)
+        candidates.emplace_back(depth_row[box.x + x], cv::Point(box.x + x, box.y + y));
     }
   }
-  std::vector<cv::Point> seeds;
-  if (candidates.empty()) return seeds;
-  *median = Median(depths);
-  for (std::size_t i = 0; i < candidates.size(); ++i) {
-    if (std::abs(depths[i] - *median) <= options.seed_depth_band_m) seeds.push_back(candidates[i]);
+  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  return candidates;
+}
+
+// Splits sorted seed candidates into depth layers at gaps > seed_split_gap_m (two people
+// overlapping in the image are two layers) and drops layers holding less than
+// min_seed_fraction of the seeds (background seen through the mask). Largest layer first.
+std::vector<SeedGroup> SeedLayers(const std::vector<std::pair<float, cv::Point>>& candidates,
+                                  const RegionGrowingOptions& options) {
+  std::vector<SeedGroup> groups;
+  std::size_t begin = 0;
+  for (std::size_t i = 1; i <= candidates.size(); ++i) {
+    if (i < candidates.size() && candidates[i].first - candidates[i - 1].first <= options.seed_split_gap_m) continue;
+    if (static_cast<double>(i - begin) >= options.min_seed_fraction * static_cast<double>(candidates.size())) {
+      SeedGroup group;
+      group.median_depth_m = candidates[(begin + i) / 2].first;
+      for (std::size_t j = begin; j < i; ++j) group.seeds.push_back(candidates[j].second);
+      groups.push_back(std::move(group));
+    }
+    begin = i;
   }
-  return seeds;
+  std::stable_sort(groups.begin(), groups.end(),
+                   [](const SeedGroup& a, const SeedGroup& b) { return a.seeds.size() > b.seeds.size(); });
+  return groups;
+}
+
+// Grows the largest layer, then every other layer whose region stays mostly inside the network
+// mask (background around the person spreads over the whole band, a second person does not).
+void GrowSeedLayers(const cv::Mat& depth_m, const cv::Mat& raw_mask, const std::vector<SeedGroup>& groups,
+                    const cv::Rect& box, const cv::Mat& allowed, const RegionGrowingOptions& options, cv::Mat& refined) {
+  GrowDepthRegion(depth_m, groups[0].seeds, box, groups[0].median_depth_m, options, refined, allowed);
+  for (std::size_t g = 1; g < groups.size(); ++g) {
+    cv::Mat layer = cv::Mat::zeros(depth_m.size(), CV_8U);
+    const int grown = GrowDepthRegion(depth_m, groups[g].seeds, box, groups[g].median_depth_m, options, layer, allowed);
+    const int outside = cv::countNonZero(layer(box) & (raw_mask(box) == 0));
+    if (grown > 0 && outside <= options.max_outside_fraction * grown) refined(box).setTo(255, layer(box));
+  }
 }
 
 // Mask pixels without valid depth, dilated: depth cannot decide them, so they stay dynamic.
 cv::Mat NoDepthPart(const cv::Mat& raw_mask, const cv::Mat& depth_m, int dilation_px) {
   cv::Mat no_depth = (raw_mask != 0) & (depth_m <= 0);
-  if (dilation_px > 0 && cv::countNonZero(no_depth) > 0) {
-    const cv::Mat kernel =
-        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * dilation_px + 1, 2 * dilation_px + 1));
-    cv::dilate(no_depth, no_depth, kernel);
-  }
+  if (dilation_px > 0 && cv::countNonZero(no_depth) > 0) cv::dilate(no_depth, no_depth, Ellipse(dilation_px));
   return no_depth;
 }
 
@@ -68,17 +94,22 @@ cv::Mat NoDepthPart(const cv::Mat& raw_mask, const cv::Mat& depth_m, int dilatio
 void RegionGrowingOptions::Check() const {
   if (!(abs_tolerance_m > 0) || !(depth_sq_tolerance >= 0))
     throw Error("region growing: abs_tolerance_m must be > 0 and depth_sq_tolerance >= 0");
-  if (!(max_depth_from_seed_m > 0) || !(seed_depth_band_m > 0))
-    throw Error("region growing: max_depth_from_seed_m and seed_depth_band_m must be > 0");
-  if (seed_erosion_px < 0 || box_margin_px < 0 || no_depth_dilation_px < 0 || min_component_px < 0 ||
-      !(box_margin_fraction >= 0))
-    throw Error("region growing: pixel counts and margins must be >= 0");
+  if (!(max_depth_from_seed_m > 0) || !(seed_split_gap_m > 0))
+    throw Error("region growing: max_depth_from_seed_m and seed_split_gap_m must be > 0");
+  if (!(min_seed_fraction >= 0 && min_seed_fraction < 1) || !(max_outside_fraction >= 0 && max_outside_fraction <= 1))
+    throw Error("region growing: min_seed_fraction must be in [0, 1) and max_outside_fraction in [0, 1]");
+  if (!(seed_core_fraction >= 0 && seed_core_fraction < 0.5))
+    throw Error("region growing: seed_core_fraction must be in [0, 0.5)");
+  if (seed_erosion_px < 0 || growth_band_px < 0 || no_depth_dilation_px < 0 || min_component_px < 0)
+    throw Error("region growing: pixel counts must be >= 0");
 }
 
 int GrowDepthRegion(const cv::Mat& depth_m, const std::vector<cv::Point>& seeds, const cv::Rect& box,
-                    double reference_depth_m, const RegionGrowingOptions& options, cv::Mat& region) {
+                    double reference_depth_m, const RegionGrowingOptions& options, cv::Mat& region,
+                    const cv::Mat& allowed) {
   static const int kDu[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
   static const int kDv[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
+  const bool limited = !allowed.empty();
   std::vector<cv::Point> stack;
   int added = 0;
   for (const cv::Point& seed : seeds) {
@@ -94,7 +125,7 @@ int GrowDepthRegion(const cv::Mat& depth_m, const std::vector<cv::Point>& seeds,
     const double tolerance = NeighbourTolerance(z, options);
     for (int n = 0; n < 8; ++n) {
       const cv::Point q(p.x + kDu[n], p.y + kDv[n]);
-      if (!box.contains(q)) continue;
+      if (!box.contains(q) || (limited && !allowed.at<uchar>(q))) continue;
       uchar& mark = region.at<uchar>(q);
       const float zq = depth_m.at<float>(q);
       if (mark || !(zq > 0) || std::abs(zq - z) > tolerance ||
@@ -115,21 +146,22 @@ cv::Mat RefineDynamicMask(const cv::Mat& raw_mask, const cv::Mat& depth_m, const
   if (cv::countNonZero(raw_mask) == 0) return refined;
   cv::Mat labels, stats, centroids;
   const int num_labels = cv::connectedComponentsWithStats(raw_mask != 0, labels, stats, centroids, 8, CV_32S);
-  cv::Mat eroded;
-  const int r = options.seed_erosion_px;
-  cv::erode(raw_mask != 0, eroded, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+  const int band = options.growth_band_px;
+  cv::Mat allowed;  // growth stays within the network mask dilated by the band (square kernel: fast)
+  cv::dilate(raw_mask != 0, allowed, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * band + 1, 2 * band + 1)));
+  const cv::Rect image(0, 0, raw_mask.cols, raw_mask.rows);
   for (int label = 1; label < num_labels; ++label) {
     if (stats.at<int>(label, cv::CC_STAT_AREA) < options.min_component_px) continue;
     const cv::Rect component_box(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
                                  stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
-    double median = 0;
-    std::vector<cv::Point> seeds = ComponentSeeds(labels, label, component_box, eroded, depth_m, options, &median);
-    if (seeds.empty()) seeds = ComponentSeeds(labels, label, component_box, raw_mask, depth_m, options, &median);
-    if (seeds.empty()) {  // no usable depth inside: keep the network's component as it is
-      refined.setTo(255, labels == label);
+    const std::vector<SeedGroup> groups = SeedLayers(CoreSeeds(labels, label, component_box, depth_m, options), options);
+    if (groups.empty()) {  // no usable depth inside: keep the network's component as it is
+      refined(component_box).setTo(255, labels(component_box) == label);
       continue;
     }
-    GrowDepthRegion(depth_m, seeds, GrowthBox(component_box, raw_mask.size(), options), median, options, refined);
+    const cv::Rect box = cv::Rect(component_box.x - band, component_box.y - band, component_box.width + 2 * band,
+                                  component_box.height + 2 * band) & image;
+    GrowSeedLayers(depth_m, raw_mask, groups, box, allowed, options, refined);
   }
   refined.setTo(255, NoDepthPart(raw_mask, depth_m, options.no_depth_dilation_px));
   return refined;

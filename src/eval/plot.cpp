@@ -22,7 +22,7 @@ constexpr int kMarginLeft = 70, kMarginRight = 30, kMarginTop = 60, kMarginBotto
 struct PlotFrame {
   double min_x = 0, max_x = 0, min_y = 0, max_y = 0;
   double pixels_per_metre = 1;
-  double tick_m = 1;  // a 1-2-5 step giving about 5-10 ticks
+  double tick_m = 1;  // a 1-2-5 step giving about 4-8 ticks
 
   cv::Point2d ToPixel(double x, double y) const {
     return {kMarginLeft + (x - min_x) * pixels_per_metre, kHeight - kMarginBottom - (y - min_y) * pixels_per_metre};
@@ -30,7 +30,7 @@ struct PlotFrame {
 };
 
 double NiceStep(double span) {
-  const double raw = span / 6.0;
+  const double raw = span / 8.0;
   const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
   for (double factor : {1.0, 2.0, 5.0, 10.0}) {
     if (factor * magnitude >= raw) return factor * magnitude;

@@ -101,13 +101,26 @@ SegmentationResult OnnxSegmenter::Segment(const cv::Mat& bgr, double /*timestamp
 }
 
 cv::Mat ArgmaxLabels(const std::vector<cv::Mat>& scores) {
-  if (scores.empty()) throw Error("ArgmaxLabels: no score planes");
-  cv::Mat best = scores[0].clone();
-  cv::Mat labels(scores[0].size(), CV_8UC1, cv::Scalar(0));
-  for (std::size_t c = 1; c < scores.size(); ++c) {
-    const cv::Mat better = scores[c] > best;  // ties keep the lower class id
-    scores[c].copyTo(best, better);
-    labels.setTo(cv::Scalar(static_cast<double>(c)), better);
+  if (scores.empty() || scores.size() > 256) throw Error("ArgmaxLabels: need 1..256 score planes");
+  const cv::Size size = scores[0].size();
+  for (const auto& s : scores)
+    if (s.type() != CV_32FC1 || s.size() != size) throw Error("ArgmaxLabels: score planes must be CV_32FC1 of one size");
+  cv::Mat labels(size, CV_8UC1);
+  std::vector<const float*> rows(scores.size());
+  for (int y = 0; y < size.height; ++y) {
+    for (std::size_t c = 0; c < scores.size(); ++c) rows[c] = scores[c].ptr<float>(y);
+    auto* out = labels.ptr<std::uint8_t>(y);
+    for (int x = 0; x < size.width; ++x) {
+      std::size_t best = 0;  // ties keep the lower class id
+      float best_score = rows[0][x];
+      for (std::size_t c = 1; c < rows.size(); ++c) {
+        if (rows[c][x] > best_score) {
+          best_score = rows[c][x];
+          best = c;
+        }
+      }
+      out[x] = static_cast<std::uint8_t>(best);
+    }
   }
   return labels;
 }

@@ -112,6 +112,11 @@ std::string ResolveModelPath(const std::string& path, const std::string& setting
   return path;
 }
 
+void SetModel(SemanticSettings& settings, const std::string& path, const std::string& settings_dir) {
+  settings.onnx.model_path = ResolveModelPath(path, settings_dir);
+  SizeFromModelName(path, settings.onnx.input_width, settings.onnx.input_height);
+}
+
 SemanticSettings LoadSemanticSettings(const std::string& path) {
   SemanticSettings s;
   std::string model = kDefaultSegmentationModel;
@@ -129,8 +134,7 @@ SemanticSettings LoadSemanticSettings(const std::string& path) {
     throw InputError(path, root["Semantic.segmenter"].Mark().line + 1, "Semantic.segmenter must be onnx or folder");
   }
   Read(root, path, "Semantic.model", model);
-  s.onnx.model_path = ResolveModelPath(model, settings_dir);
-  SizeFromModelName(model, s.onnx.input_width, s.onnx.input_height);
+  SetModel(s, model, settings_dir);
   Read(root, path, "Semantic.inputWidth", s.onnx.input_width);
   Read(root, path, "Semantic.inputHeight", s.onnx.input_height);
   Read(root, path, "Semantic.threads", s.onnx.threads);

@@ -43,6 +43,9 @@ SemanticSettings LoadSemanticSettings(const std::string& path);
 // `path` unchanged when nothing exists (the segmenter then reports it as missing).
 std::string ResolveModelPath(const std::string& path, const std::string& settings_dir = "");
 
+// Sets the ONNX model (resolved as above) and, if its name ends in _<W>x<H>.onnx, the input size.
+void SetModel(SemanticSettings& settings, const std::string& path, const std::string& settings_dir = "");
+
 // Builds the configured segmenter (loads the model / indexes the mask folder).
 std::unique_ptr<Segmenter> MakeSegmenter(const SemanticSettings& settings);
 

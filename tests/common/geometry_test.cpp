@@ -33,3 +33,13 @@ TEST(Rigid3, ExpOfPureRotationMatchesAngleAxis) {
 
 }  // namespace
 }  // namespace esdslam
+
+namespace esdslam {
+namespace {
+TEST(RotationAngle, PreciseForTinyAngles) {
+  const Quat q(Eigen::AngleAxisd(1e-9, Vec3::UnitZ()));
+  EXPECT_NEAR(RotationAngle(q), 1e-9, 1e-15);
+  EXPECT_NEAR(RotationAngle(Quat(Eigen::AngleAxisd(3.0, Vec3::UnitX()))), 3.0, 1e-12);
+}
+}  // namespace
+}  // namespace esdslam

@@ -1,0 +1,204 @@
+// Multi-view geometry check on synthetic frames with known poses and ground-truth mover masks.
+#include <algorithm>
+#include <cstdio>
+#include <set>
+
+#include <gtest/gtest.h>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "common/error.h"
+#include "dynamic/geometry_check.h"
+#include "dynamic/reference_keyframes.h"
+#include "synth/synthetic_scene.h"
+
+namespace esdslam {
+namespace {
+
+// Half resolution (320x240) keeps the tests fast.
+SynthOptions SmallOptions(const std::string& preset, int frames) {
+  SynthOptions options = SynthPreset(preset);
+  options.num_frames = frames;
+  options.intrinsics.width = 320;
+  options.intrinsics.height = 240;
+  options.intrinsics.fx = options.intrinsics.fy = 262.5;
+  options.intrinsics.cx = 159.5;
+  options.intrinsics.cy = 119.5;
+  return options;
+}
+
+GeometryCheckOptions SmallGeometryOptions() {
+  GeometryCheckOptions options;
+  options.cluster_radius_px = 12;
+  options.mask_radius_px = 16;
+  return options;
+}
+
+// A keyframe as tracking would give it: FAST corners of its image with valid depth, lifted to
+// the world with the keyframe's (true) pose. Points on movers are included, as in a real map
+// before culling.
+ReferenceKeyframe MakeKeyframe(const SyntheticScene& scene, const SynthFrame& frame, bool with_depth) {
+  cv::Mat grey;
+  cv::cvtColor(frame.bgr, grey, cv::COLOR_BGR2GRAY);
+  std::vector<cv::KeyPoint> corners;
+  cv::FAST(grey, corners, 20, true);
+  cv::KeyPointsFilter::retainBest(corners, 800);
+  ReferenceKeyframe keyframe;
+  keyframe.world_from_cam = frame.world_from_cam;
+  for (const auto& kp : corners) {
+    const cv::Point pixel(cvRound(kp.pt.x), cvRound(kp.pt.y));
+    const float z = frame.depth_m.at<float>(pixel);
+    if (z <= 0) continue;
+    keyframe.points_world.push_back(frame.world_from_cam * scene.camera().Backproject(Vec2(pixel.x, pixel.y), z));
+  }
+  if (with_depth) keyframe.depth_m = frame.depth_m;
+  return keyframe;
+}
+
+struct Scores {
+  int flagged = 0, flagged_on_movers = 0;
+  int detectable = 0, detected = 0;
+};
+
+// Precision: flagged pixels on a mover in the current frame. Recall: among tested points (in
+// view, parallax <= 30 deg) that project onto a mover standing >= 0.3 m in front of them, the
+// fraction flagged.
+Scores Score(const SyntheticScene& scene, const SynthFrame& current, const std::vector<ReferenceKeyframe>& keyframes,
+             const GeometryCheckResult& result) {
+  Scores s;
+  for (const auto& flag : result.dynamic_points) {
+    ++s.flagged;
+    s.flagged_on_movers += current.mover_mask.at<uchar>(flag.pixel) != 0;
+  }
+  const Rigid3 cam_from_world = current.world_from_cam.inverse();
+  std::set<std::pair<int, int>> flagged_ids;
+  for (const auto& flag : result.dynamic_points) flagged_ids.insert({flag.keyframe, flag.point});
+  for (int k = 0; k < static_cast<int>(keyframes.size()); ++k) {
+    for (int i = 0; i < static_cast<int>(keyframes[k].points_world.size()); ++i) {
+      const Vec3& point = keyframes[k].points_world[i];
+      const Vec3 in_cam = cam_from_world * point;
+      if (in_cam.z() < 0.2) continue;
+      const Vec2 pixel = scene.camera().Project(in_cam);
+      const cv::Point p(cvRound(pixel.x()), cvRound(pixel.y()));
+      if (p.x < 1 || p.y < 1 || p.x >= current.depth_m.cols - 1 || p.y >= current.depth_m.rows - 1) continue;
+      const Vec3 a = (point - keyframes[k].world_from_cam.translation()).normalized();
+      const Vec3 b = (point - current.world_from_cam.translation()).normalized();
+      if (std::acos(std::clamp(a.dot(b), -1.0, 1.0)) > 30.0 * M_PI / 180) continue;
+      if (current.mover_mask.at<uchar>(p) == 0 || in_cam.z() - current.depth_m.at<float>(p) < 0.3) continue;
+      ++s.detectable;
+      s.detected += flagged_ids.count({k, i});
+    }
+  }
+  return s;
+}
+
+// Runs the check with the true pose of frame `current_index` against 4 earlier keyframes,
+// with (variant 0) and without (variant 1) keyframe depth images; accumulates the scores.
+void ScoreFrame(const SyntheticScene& scene, int current_index, Scores total[2]) {
+  const SynthFrame current = scene.RenderFrame(current_index);
+  std::vector<ReferenceKeyframe> keyframes;
+  for (const int back : {24, 18, 12, 6})
+    keyframes.push_back(MakeKeyframe(scene, scene.RenderFrame(current_index - back), true));
+  for (int variant = 0; variant < 2; ++variant) {
+    if (variant == 1) {
+      for (auto& keyframe : keyframes) keyframe.depth_m = cv::Mat();
+    }
+    const GeometryCheckResult result = CheckMultiViewGeometry(scene.camera(), current.world_from_cam.inverse(),
+                                                              current.depth_m, keyframes, SmallGeometryOptions());
+    const Scores s = Score(scene, current, keyframes, result);
+    const int mask_px = cv::countNonZero(result.dynamic_mask);
+    const int mask_on_movers = cv::countNonZero(result.dynamic_mask & (current.mover_mask != 0));
+    std::printf("frame %d %s: tested %d, flagged %d (%d on movers), detectable %d, detected %d, mask %d px (%d on movers)\n",
+                current_index, variant == 0 ? "with keyframe depth" : "points only", result.num_tested, s.flagged,
+                s.flagged_on_movers, s.detectable, s.detected, mask_px, mask_on_movers);
+    total[variant].flagged += s.flagged;
+    total[variant].flagged_on_movers += s.flagged_on_movers;
+    total[variant].detectable += s.detectable;
+    total[variant].detected += s.detected;
+    // The mask grown from the flags lies on the movers (a little leaks into the floor at the feet).
+    EXPECT_GE(mask_on_movers, 0.85 * mask_px);
+  }
+}
+
+TEST(GeometryCheck, FlagsPointsCoveredByMoversWithHighPrecisionAndRecall) {
+  const SyntheticScene scene(SmallOptions("dynamic", 60));
+  Scores total[2];
+  for (const int current_index : {24, 45, 59}) ScoreFrame(scene, current_index, total);
+  for (const Scores& s : total) {
+    ASSERT_GT(s.detectable, 200);
+    EXPECT_GE(static_cast<double>(s.flagged_on_movers) / s.flagged, 0.9);
+    EXPECT_GE(static_cast<double>(s.detected) / s.detectable, 0.9);
+  }
+}
+
+TEST(GeometryCheck, StaticSceneWithTruePosesHasAlmostNoFlags) {
+  const SyntheticScene scene(SmallOptions("static", 40));
+  const SynthFrame current = scene.RenderFrame(39);
+  std::vector<ReferenceKeyframe> keyframes;
+  for (const int index : {0, 10, 20, 30}) keyframes.push_back(MakeKeyframe(scene, scene.RenderFrame(index), true));
+  const GeometryCheckResult result = CheckMultiViewGeometry(scene.camera(), current.world_from_cam.inverse(),
+                                                            current.depth_m, keyframes, SmallGeometryOptions());
+  ASSERT_GT(result.num_tested, 1500);
+  EXPECT_LE(result.dynamic_points.size(), result.num_tested / 200u);
+  EXPECT_EQ(cv::countNonZero(result.dynamic_mask), 0);
+  // A wrong pose (60 cm backwards) makes most points look occluded: the check really compares depth.
+  const Rigid3 wrong = Rigid3(Quat::Identity(), Vec3(0, 0, 0.6)) * current.world_from_cam.inverse();
+  const GeometryCheckResult bad =
+      CheckMultiViewGeometry(scene.camera(), wrong, current.depth_m, keyframes, SmallGeometryOptions());
+  EXPECT_GT(bad.dynamic_points.size(), bad.num_tested / 2u);
+}
+
+TEST(GeometryCheck, VanishedPointsAreReportedNotFlagged) {
+  // The keyframe saw a point 1 m in front of a wall at 3 m; now the wall is measured there.
+  CameraIntrinsics k = SynthOptions::DefaultIntrinsics();
+  const PinholeCamera camera(k);
+  cv::Mat depth(k.height, k.width, CV_32F, cv::Scalar(3.0f));
+  ReferenceKeyframe keyframe;
+  keyframe.points_world = {camera.Backproject(Vec2(320, 240), 2.0), camera.Backproject(Vec2(100, 100), 3.0)};
+  const GeometryCheckResult result =
+      CheckMultiViewGeometry(camera, Rigid3::Identity(), depth, {keyframe}, GeometryCheckOptions{});
+  EXPECT_EQ(result.num_tested, 2);
+  EXPECT_TRUE(result.dynamic_points.empty());
+  ASSERT_EQ(result.vanished_points.size(), 1u);
+  EXPECT_EQ(result.vanished_points[0].point, 0);
+}
+
+TEST(GeometryCheck, SkipsPointsSeenWithLargeParallax) {
+  CameraIntrinsics k = SynthOptions::DefaultIntrinsics();
+  const PinholeCamera camera(k);
+  cv::Mat depth(k.height, k.width, CV_32F, cv::Scalar(1.0f));  // occluder 1 m in front
+  ReferenceKeyframe keyframe;
+  keyframe.points_world = {Vec3(0, 0, 3.0)};
+  keyframe.world_from_cam = Rigid3(Quat::Identity(), Vec3(2.0, 0, 0));  // 33.7 deg between the rays
+  GeometryCheckResult result = CheckMultiViewGeometry(camera, Rigid3::Identity(), depth, {keyframe}, GeometryCheckOptions{});
+  EXPECT_EQ(result.num_parallax_skipped, 1);
+  EXPECT_TRUE(result.dynamic_points.empty());
+  keyframe.world_from_cam = Rigid3(Quat::Identity(), Vec3(1.5, 0, 0));  // 26.6 deg
+  result = CheckMultiViewGeometry(camera, Rigid3::Identity(), depth, {keyframe}, GeometryCheckOptions{});
+  EXPECT_EQ(result.dynamic_points.size(), 1u);
+}
+
+TEST(ReferenceKeyframes, PicksMostSharedAndMostOverlapping) {
+  EXPECT_EQ(SelectReferenceKeyframes({5, 0, 9, 9, 1, 3, 7}, 5), (std::vector<int>{2, 3, 6, 0, 5}));
+  EXPECT_EQ(SelectReferenceKeyframes({0, 2, 0}, 5), (std::vector<int>{1}));
+  const SyntheticScene scene(SynthPreset("loop"));
+  std::vector<Rigid3> poses;
+  for (const int index : {0, 100, 225, 330, 445}) poses.push_back(scene.WorldFromCam(index));
+  // Current = frame 440: frames 445 and 0 look the same way (loop), 225 the opposite way.
+  const std::vector<int> chosen =
+      SelectKeyframesByViewOverlap(scene.camera(), scene.WorldFromCam(440).inverse(), poses, 2.5, 5);
+  ASSERT_GE(chosen.size(), 2u);
+  EXPECT_TRUE((chosen[0] == 4 && chosen[1] == 0) || (chosen[0] == 0 && chosen[1] == 4));
+  EXPECT_EQ(std::count(chosen.begin(), chosen.end(), 2), 0);
+}
+
+TEST(GeometryCheck, RejectsBadInput) {
+  GeometryCheckOptions options;
+  options.max_parallax_deg = 0;
+  EXPECT_THROW(options.Check(), Error);
+  const PinholeCamera camera(SynthOptions::DefaultIntrinsics());
+  EXPECT_THROW(CheckMultiViewGeometry(camera, Rigid3::Identity(), cv::Mat::zeros(10, 10, CV_32F), {}, {}), Error);
+}
+
+}  // namespace
+}  // namespace esdslam
