@@ -40,7 +40,8 @@ void RunExtraction(benchmark::State& state, const std::string& sequence, bool ma
   cv::Mat mask;
   if (masked) {  // people on 70% of the image: only a right-hand band is static
     mask = cv::Mat::zeros(frames[0].size(), CV_8U);
-    mask(cv::Rect(frames[0].cols * 7 / 10, 0, frames[0].cols - frames[0].cols * 7 / 10, frames[0].rows)).setTo(255);
+    const int allowed_from = frames[0].cols * 7 / 10;
+    mask(cv::Rect(allowed_from, 0, frames[0].cols - allowed_from, frames[0].rows)).setTo(255);
   }
   const esdslam::OrbExtractor extractor(esdslam::OrbOptions{});
   std::vector<cv::KeyPoint> keypoints;
@@ -51,7 +52,8 @@ void RunExtraction(benchmark::State& state, const std::string& sequence, bool ma
     total_keypoints += keypoints.size();
     frame = (frame + 1) % frames.size();
   }
-  state.counters["keypoints"] = benchmark::Counter(static_cast<double>(total_keypoints), benchmark::Counter::kAvgIterations);
+  state.counters["keypoints"] =
+      benchmark::Counter(static_cast<double>(total_keypoints), benchmark::Counter::kAvgIterations);
 }
 
 void BM_OrbExtractTumRpy(benchmark::State& state) { RunExtraction(state, "tum_fr1_rpy_dev", false); }

@@ -45,35 +45,76 @@ bool AllowedByMask(const cv::Mat& mask, const cv::Point2f& level_point, double s
   return mask.at<unsigned char>(v, u) != 0;
 }
 
-// FAST corners of one level inside the detection area and the mask. A single FAST pass at the
-// minimum threshold (with non-maximum suppression) gives, per cell, exactly the corners FAST at
-// the initial threshold would give (those scoring >= it) plus the fallback set; each ~30 px cell
-// keeps the initial-threshold corners, or all its corners when it has none of those.
+// The ~30 px cells of a level's detection area, in which FAST falls back to its minimum
+// threshold when the initial one finds nothing.
+class CellGrid {
+ public:
+  explicit CellGrid(const cv::Rect2f& area)
+      : area_(area),
+        cols_(std::max(1, static_cast<int>(area.width / kCellSize))),
+        rows_(std::max(1, static_cast<int>(area.height / kCellSize))),
+        cell_width_(area.width / cols_),
+        cell_height_(area.height / rows_) {}
+  int size() const { return cols_ * rows_; }
+  // Cell index of a level point, -1 outside the area.
+  int CellOf(const cv::Point2f& p) const {
+    if (!area_.contains(p)) return -1;
+    const int col = std::min(cols_ - 1, static_cast<int>((p.x - area_.x) / cell_width_));
+    const int row = std::min(rows_ - 1, static_cast<int>((p.y - area_.y) / cell_height_));
+    return row * cols_ + col;
+  }
+  // Integer pixel rectangle covering a cell.
+  cv::Rect PixelRect(int cell) const {
+    const float x0 = area_.x + (cell % cols_) * cell_width_, y0 = area_.y + (cell / cols_) * cell_height_;
+    const int left = static_cast<int>(std::floor(x0)), top = static_cast<int>(std::floor(y0));
+    return {left, top, static_cast<int>(std::ceil(x0 + cell_width_)) - left,
+            static_cast<int>(std::ceil(y0 + cell_height_)) - top};
+  }
+
+ private:
+  cv::Rect2f area_;
+  int cols_, rows_;
+  float cell_width_, cell_height_;
+};
+
+// Whether any level-0 mask pixel under a level rectangle allows keypoints.
+bool CellAllowed(const cv::Mat& mask, const cv::Rect& level_rect, double scale) {
+  if (mask.empty()) return true;
+  const cv::Point top_left(static_cast<int>(level_rect.x * scale), static_cast<int>(level_rect.y * scale));
+  const cv::Point bottom_right(static_cast<int>(std::ceil(level_rect.br().x * scale)),
+                               static_cast<int>(std::ceil(level_rect.br().y * scale)));
+  const cv::Rect rect = cv::Rect(top_left, bottom_right) & cv::Rect(0, 0, mask.cols, mask.rows);
+  return !rect.empty() && cv::countNonZero(mask(rect)) > 0;
+}
+
+// FAST corners (with non-maximum suppression) of one level inside the detection area and the
+// mask: those at the initial threshold, plus, in each cell without any, those at the minimum
+// threshold (ORB-SLAM2's per-cell fallback). Row-major within each pass; deterministic.
 std::vector<cv::KeyPoint> DetectCorners(const cv::Mat& image, const cv::Mat& mask, double scale,
                                         const OrbOptions& options) {
   const cv::Rect2f area = DetectionArea(image);
   if (area.empty()) return {};
-  std::vector<cv::KeyPoint> fast;
-  cv::FAST(image, fast, options.min_fast_threshold, true);
-  const int cols = std::max(1, static_cast<int>(area.width / kCellSize));
-  const int rows = std::max(1, static_cast<int>(area.height / kCellSize));
-  const float cell_width = area.width / cols, cell_height = area.height / rows;
-  std::vector<int> cell_of(fast.size(), -1);
-  std::vector<char> cell_has_strong(static_cast<size_t>(cols) * rows, 0);
-  for (size_t i = 0; i < fast.size(); ++i) {
-    const cv::Point2f& p = fast[i].pt;
-    if (!area.contains(p) || !AllowedByMask(mask, p, scale)) continue;
-    const int col = std::min(cols - 1, static_cast<int>((p.x - area.x) / cell_width));
-    const int row = std::min(rows - 1, static_cast<int>((p.y - area.y) / cell_height));
-    cell_of[i] = row * cols + col;
-    if (fast[i].response >= options.initial_fast_threshold) cell_has_strong[cell_of[i]] = 1;
+  const CellGrid grid(area);
+  std::vector<char> cell_has_corner(grid.size(), 0);
+  std::vector<cv::KeyPoint> found, corners;
+  cv::FAST(image, found, options.initial_fast_threshold, true);
+  for (const cv::KeyPoint& kp : found) {
+    const int cell = grid.CellOf(kp.pt);
+    if (cell < 0 || !AllowedByMask(mask, kp.pt, scale)) continue;
+    cell_has_corner[cell] = 1;
+    corners.push_back(kp);
   }
-  std::vector<cv::KeyPoint> corners;
-  corners.reserve(fast.size());
-  for (size_t i = 0; i < fast.size(); ++i) {
-    if (cell_of[i] < 0) continue;
-    if (cell_has_strong[cell_of[i]] && fast[i].response < options.initial_fast_threshold) continue;
-    corners.push_back(fast[i]);
+  constexpr int kFastRadius = 3;  // FAST reads a 3 px circle: widen the cell so it can see it
+  for (int cell = 0; cell < grid.size(); ++cell) {
+    if (cell_has_corner[cell]) continue;
+    const cv::Rect rect = grid.PixelRect(cell);
+    if (!CellAllowed(mask, rect, scale)) continue;
+    const cv::Rect window = (rect + cv::Size(2 * kFastRadius, 2 * kFastRadius)) - cv::Point(kFastRadius, kFastRadius);
+    cv::FAST(image(window & cv::Rect(0, 0, image.cols, image.rows)), found, options.min_fast_threshold, true);
+    for (cv::KeyPoint kp : found) {
+      kp.pt += cv::Point2f(window.tl());
+      if (grid.CellOf(kp.pt) == cell && AllowedByMask(mask, kp.pt, scale)) corners.push_back(kp);
+    }
   }
   return corners;
 }
@@ -144,6 +185,7 @@ OrbExtractor::OrbExtractor(const OrbOptions& options) : options_(options) {
 
 void OrbExtractor::Extract(const cv::Mat& gray, const cv::Mat& mask, std::vector<cv::KeyPoint>* keypoints,
                            cv::Mat* descriptors) const {
+  if (keypoints == nullptr || descriptors == nullptr) throw Error("OrbExtractor: null output");
   if (gray.empty() || gray.type() != CV_8UC1) throw Error("OrbExtractor: expected a non-empty CV_8UC1 image");
   if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != gray.size()))
     throw Error("OrbExtractor: the mask must be CV_8UC1 with the image's size");

@@ -65,7 +65,8 @@ ReprojectionMeasurement MeasurementOf(const BaObservation& o) {
 BaState StateOf(const BaProblem& problem) {
   BaState state;
   state.poses.resize(problem.keyframes.size());
-  for (size_t i = 0; i < problem.keyframes.size(); ++i) PoseToBlock(problem.keyframes[i].cam_from_world, state.poses[i].data());
+  for (size_t i = 0; i < problem.keyframes.size(); ++i)
+    PoseToBlock(problem.keyframes[i].cam_from_world, state.poses[i].data());
   state.points.reserve(problem.points.size());
   for (const BaPoint& point : problem.points) state.points.push_back(point.position_world);
   return state;
@@ -153,7 +154,11 @@ ceres::Solver::Summary SolvePhase(const PhaseInput& in, bool robust, int iterati
       solver_options.linear_solver_type = ceres::DENSE_QR;
   }
   ceres::Solver::Summary summary;
-  if (ceres_problem.NumResidualBlocks() > 0) ceres::Solve(solver_options, &ceres_problem, &summary);
+  if (ceres_problem.NumResidualBlocks() > 0) {
+    ceres::Solve(solver_options, &ceres_problem, &summary);
+  } else {
+    summary.initial_cost = summary.final_cost = 0;  // nothing to optimise
+  }
   return summary;
 }
 

@@ -213,6 +213,16 @@ TEST(BundleAdjust, IsDeterministic) {
     EXPECT_EQ(a.problem.observations[k].outlier, b.problem.observations[k].outlier);
 }
 
+TEST(BundleAdjust, EmptyProblemIsANoOp) {
+  BaProblem problem;
+  problem.keyframes.push_back({Rigid3(), false});
+  const BaSummary summary = BundleAdjust(test::TumLikeCamera(), kBf, BundleAdjustmentOptions{}, &problem);
+  EXPECT_EQ(summary.initial_cost, 0);
+  EXPECT_EQ(summary.final_cost, 0);
+  EXPECT_EQ(summary.outliers, 0);
+  EXPECT_FALSE(summary.aborted);
+}
+
 TEST(BundleAdjust, RejectsBadIndices) {
   const PinholeCamera camera = test::TumLikeCamera();
   BaScene scene = MakeScene(camera, 3, 50, 1, 0.0, 6);
