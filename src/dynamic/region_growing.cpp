@@ -23,24 +23,31 @@ struct SeedGroup {
   double median_depth_m = 0;
 };
 
-// Seed candidates of component `label` inside `box`: its centre region (the component eroded by
-// a radius that grows with its size; the whole component if erosion leaves nothing) with valid
-// depth, as (depth, pixel) sorted by depth.
-std::vector<std::pair<float, cv::Point>> CoreSeeds(const cv::Mat& labels, int label, const cv::Rect& box,
-                                                  const cv::Mat& depth_m, const RegionGrowingOptions& options) {
-  const cv::Mat component = labels(box) == label;
-  const int radius = std::max(options.seed_erosion_px,
-                              static_cast<int>(options.seed_core_fraction * std::min(box.width, box.height)));
+constexpr int kCoarse = 4;  // components and seed grid are computed at 1/kCoarse resolution
+
+// Seed candidates of coarse component `label` (coarse_box in coarse pixels): its centre region
+// (the component eroded by a radius that grows with its size, square kernel; the whole
+// component if erosion leaves nothing), one full-resolution pixel per coarse pixel (its centre)
+// where the network mask is set and depth is valid, as (depth, pixel) sorted by depth.
+std::vector<std::pair<float, cv::Point>> CoreSeeds(const cv::Mat& coarse_labels, int label, const cv::Rect& coarse_box,
+                                                  const cv::Mat& raw_mask, const cv::Mat& depth_m,
+                                                  const RegionGrowingOptions& options) {
+  const cv::Mat component = coarse_labels(coarse_box) == label;
+  const int radius_px = std::max(options.seed_erosion_px, static_cast<int>(options.seed_core_fraction * kCoarse *
+                                                                            std::min(coarse_box.width, coarse_box.height)));
+  const int radius = (radius_px + kCoarse - 1) / kCoarse;
   cv::Mat core;
-  cv::erode(component, core, Ellipse(radius));
+  cv::erode(component, core, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1)));
   if (cv::countNonZero(core) == 0) core = component;
   std::vector<std::pair<float, cv::Point>> candidates;
-  for (int y = 0; y < box.height; ++y) {
+  for (int y = 0; y < coarse_box.height; ++y) {
     const uchar* core_row = core.ptr<uchar>(y);
-    const float* depth_row = depth_m.ptr<float>(box.y + y);
-    for (int x = 0; x < box.width; ++x) {
-      if (core_row[x] && depth_row[box.x + x] > 0)
-        candidates.emplace_back(depth_row[box.x + x], cv::Point(box.x + x, box.y + y));
+    const int v = std::min(depth_m.rows - 1, (coarse_box.y + y) * kCoarse + kCoarse / 2);
+    const float* depth_row = depth_m.ptr<float>(v);
+    const uchar* raw_row = raw_mask.ptr<uchar>(v);
+    for (int x = 0; x < coarse_box.width; ++x) {
+      const int u = std::min(depth_m.cols - 1, (coarse_box.x + x) * kCoarse + kCoarse / 2);
+      if (core_row[x] && raw_row[u] && depth_row[u] > 0) candidates.emplace_back(depth_row[u], cv::Point(u, v));
     }
   }
   std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -59,7 +66,10 @@ std::vector<SeedGroup> SeedLayers(const std::vector<std::pair<float, cv::Point>>
     if (static_cast<double>(i - begin) >= options.min_seed_fraction * static_cast<double>(candidates.size())) {
       SeedGroup group;
       group.median_depth_m = candidates[(begin + i) / 2].first;
-      for (std::size_t j = begin; j < i; ++j) group.seeds.push_back(candidates[j].second);
+      for (std::size_t j = begin; j < i; ++j) {  // seeds far from the layer's bulk are not trusted
+        if (std::abs(candidates[j].first - group.median_depth_m) <= options.max_depth_from_seed_m)
+          group.seeds.push_back(candidates[j].second);
+      }
       groups.push_back(std::move(group));
     }
     begin = i;
@@ -100,40 +110,54 @@ void RegionGrowingOptions::Check() const {
     throw Error("region growing: min_seed_fraction must be in [0, 1) and max_outside_fraction in [0, 1]");
   if (!(seed_core_fraction >= 0 && seed_core_fraction < 0.5))
     throw Error("region growing: seed_core_fraction must be in [0, 0.5)");
-  if (seed_erosion_px < 0 || growth_band_px < 0 || no_depth_dilation_px < 0 || min_component_px < 0)
-    throw Error("region growing: pixel counts must be >= 0");
+  if (seed_erosion_px < 0 || growth_band_px < 0 || no_depth_dilation_px < 0 || min_component_px < 0 || (connectivity != 4 && connectivity != 8))
+    throw Error("region growing: pixel counts must be >= 0 and connectivity 4 or 8");
 }
 
 int GrowDepthRegion(const cv::Mat& depth_m, const std::vector<cv::Point>& seeds, const cv::Rect& box,
                     double reference_depth_m, const RegionGrowingOptions& options, cv::Mat& region,
                     const cv::Mat& allowed) {
-  static const int kDu[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
-  static const int kDv[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
+  CV_Assert(depth_m.type() == CV_32F && region.type() == CV_8U && region.size() == depth_m.size() &&
+            depth_m.isContinuous() && region.isContinuous());
   const bool limited = !allowed.empty();
+  CV_Assert(!limited || (allowed.type() == CV_8U && allowed.size() == depth_m.size() && allowed.isContinuous()));
+  const cv::Rect inside = box & cv::Rect(0, 0, depth_m.cols, depth_m.rows);
+  const int cols = depth_m.cols;
+  const float* depth = depth_m.ptr<float>();
+  uchar* mark = region.ptr<uchar>();
+  const uchar* allow = limited ? allowed.ptr<uchar>() : nullptr;
+  const float reference = static_cast<float>(reference_depth_m);
+  const float max_from_reference = static_cast<float>(options.max_depth_from_seed_m);
   std::vector<cv::Point> stack;
+  stack.reserve(4096);
   int added = 0;
   for (const cv::Point& seed : seeds) {
-    if (!box.contains(seed) || region.at<uchar>(seed) || !(depth_m.at<float>(seed) > 0)) continue;
-    region.at<uchar>(seed) = 255;
+    const int i = seed.y * cols + seed.x;
+    if (!inside.contains(seed) || mark[i] || !(depth[i] > 0)) continue;
+    mark[i] = 255;
     ++added;
     stack.push_back(seed);
   }
+  const int x_end = inside.x + inside.width, y_end = inside.y + inside.height;
+  // 4-neighbours first; 8-connectivity adds the diagonals.
+  static const int kNeighbours[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+  const int num_neighbours = options.connectivity == 8 ? 8 : 4;
   while (!stack.empty()) {
     const cv::Point p = stack.back();
     stack.pop_back();
-    const float z = depth_m.at<float>(p);
-    const double tolerance = NeighbourTolerance(z, options);
-    for (int n = 0; n < 8; ++n) {
-      const cv::Point q(p.x + kDu[n], p.y + kDv[n]);
-      if (!box.contains(q) || (limited && !allowed.at<uchar>(q))) continue;
-      uchar& mark = region.at<uchar>(q);
-      const float zq = depth_m.at<float>(q);
-      if (mark || !(zq > 0) || std::abs(zq - z) > tolerance ||
-          std::abs(zq - reference_depth_m) > options.max_depth_from_seed_m)
+    const float z = depth[p.y * cols + p.x];
+    const float tolerance = static_cast<float>(NeighbourTolerance(z, options));
+    for (int n = 0; n < num_neighbours; ++n) {
+      const int x = p.x + kNeighbours[n][0], y = p.y + kNeighbours[n][1];
+      if (x < inside.x || x >= x_end || y < inside.y || y >= y_end) continue;
+      const int i = y * cols + x;
+      const float zq = depth[i];
+      if (mark[i] || (limited && !allow[i]) || !(zq > 0) || std::abs(zq - z) > tolerance ||
+          std::abs(zq - reference) > max_from_reference)
         continue;
-      mark = 255;
+      mark[i] = 255;
       ++added;
-      stack.push_back(q);
+      stack.emplace_back(x, y);
     }
   }
   return added;
@@ -144,19 +168,26 @@ cv::Mat RefineDynamicMask(const cv::Mat& raw_mask, const cv::Mat& depth_m, const
     throw Error("RefineDynamicMask: expected a CV_8U mask and a CV_32F depth image of the same size");
   cv::Mat refined = cv::Mat::zeros(raw_mask.size(), CV_8U);
   if (cv::countNonZero(raw_mask) == 0) return refined;
-  cv::Mat labels, stats, centroids;
-  const int num_labels = cv::connectedComponentsWithStats(raw_mask != 0, labels, stats, centroids, 8, CV_32S);
+  // Components on a 1/kCoarse image where a coarse pixel is set if any of its pixels is.
+  cv::Mat coarse, labels, stats, centroids;
+  cv::resize(raw_mask != 0, coarse, cv::Size((raw_mask.cols + kCoarse - 1) / kCoarse, (raw_mask.rows + kCoarse - 1) / kCoarse),
+             0, 0, cv::INTER_AREA);
+  const int num_labels = cv::connectedComponentsWithStats(coarse > 0, labels, stats, centroids, 8, CV_32S);
   const int band = options.growth_band_px;
   cv::Mat allowed;  // growth stays within the network mask dilated by the band (square kernel: fast)
   cv::dilate(raw_mask != 0, allowed, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * band + 1, 2 * band + 1)));
   const cv::Rect image(0, 0, raw_mask.cols, raw_mask.rows);
   for (int label = 1; label < num_labels; ++label) {
-    if (stats.at<int>(label, cv::CC_STAT_AREA) < options.min_component_px) continue;
-    const cv::Rect component_box(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
-                                 stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
-    const std::vector<SeedGroup> groups = SeedLayers(CoreSeeds(labels, label, component_box, depth_m, options), options);
-    if (groups.empty()) {  // no usable depth inside: keep the network's component as it is
-      refined(component_box).setTo(255, labels(component_box) == label);
+    if (stats.at<int>(label, cv::CC_STAT_AREA) * kCoarse * kCoarse < options.min_component_px) continue;
+    const cv::Rect coarse_box(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
+                              stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
+    const cv::Rect component_box =
+        cv::Rect(coarse_box.x * kCoarse, coarse_box.y * kCoarse, coarse_box.width * kCoarse, coarse_box.height * kCoarse) &
+        image;
+    const std::vector<SeedGroup> groups =
+        SeedLayers(CoreSeeds(labels, label, coarse_box, raw_mask, depth_m, options), options);
+    if (groups.empty()) {  // no usable depth inside: keep the network's mask as it is
+      refined(component_box).setTo(255, raw_mask(component_box) != 0);
       continue;
     }
     const cv::Rect box = cv::Rect(component_box.x - band, component_box.y - band, component_box.width + 2 * band,

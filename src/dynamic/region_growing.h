@@ -5,7 +5,7 @@
 // thin parts. For every connected component of the network mask we take seed pixels inside it
 // (the mask eroded, with valid depth, split into depth layers; small layers are background) and
 // grow a region from the largest layer, and from other layers that stay mostly inside the mask,
-// over 8-neighbours (explicit stack) while the depth step between neighbours stays below a
+// over 4- (or 8-) neighbours (explicit stack) while the depth step between neighbours stays below a
 // depth-dependent tolerance, within the network mask dilated by a band of growth_band_px. The
 // result follows the person's depth silhouette. Mask pixels without valid depth cannot be
 // decided by depth: they are kept and dilated a little.
@@ -29,14 +29,15 @@ struct RegionGrowingOptions {
   double depth_sq_tolerance = 0.01;   // 1/m: depth-squared part of the neighbour tolerance
   double max_depth_from_seed_m = 0.8; // grown pixels stay within this of the seeds' median depth
   double seed_split_gap_m = 0.1;      // seed depths separated by a larger gap are different layers
-  double min_seed_fraction = 0.1;     // seed layers with fewer seeds (fraction) are background
+  double min_seed_fraction = 0.05;    // seed layers with fewer seeds (fraction) are background
   // Besides the largest seed layer, a layer is kept only if at most this fraction of its grown
   // region lies outside the network mask (background seen around the person spreads out).
   double max_outside_fraction = 0.5;
   // Seeds come from the centre region: the component eroded by
   // max(seed_erosion_px, seed_core_fraction * min(box width, box height)).
   int seed_erosion_px = 4;
-  double seed_core_fraction = 0.2;
+  double seed_core_fraction = 0.1;
+  int connectivity = 4;               // growth neighbourhood: 4 or 8
   int growth_band_px = 16;            // growth stays within the network mask dilated by this
   int no_depth_dilation_px = 2;       // dilation of kept mask pixels that have no valid depth
   int min_component_px = 30;          // smaller mask components are dropped (noise)

@@ -185,6 +185,64 @@ SynthFrame SyntheticScene::RenderFrame(int index) const {
   return frame;
 }
 
+namespace {
+
+// Ray casts rows [rows.start, rows.end) of `frame` (images already allocated).
+void RenderRows(const std::vector<BoxView>& views, const PinholeCamera& camera, int supersampling,
+                const cv::Range& rows, SynthFrame& frame) {
+  const int ss = supersampling;
+  const double fx = camera.fx(), fy = camera.fy(), cx = camera.cx(), cy = camera.cy();
+  std::vector<int> candidates;
+  for (int v = rows.start; v < rows.end; ++v) {
+    candidates.clear();
+    for (int i = 0; i < static_cast<int>(views.size()); ++i) {
+      if (v + 0.5 >= views[i].min_v && v - 0.5 <= views[i].max_v) candidates.push_back(i);
+    }
+    auto* bgr = frame.bgr.ptr<cv::Vec3b>(v);
+    auto* depth = frame.depth_m.ptr<float>(v);
+    auto* mask = frame.mover_mask.ptr<uchar>(v);
+    auto* surface = frame.surface_id.ptr<int>(v);
+    for (int u = 0; u < camera.width(); ++u) {
+      const Vec3 centre_dir((u - cx) / fx, (v - cy) / fy, 1.0);
+      const PixelHit centre = TraceCameraRay(views, candidates, u, centre_dir);
+      const bool hit = centre.view >= 0;
+      depth[u] = hit ? static_cast<float>(centre.t) : 0.f;
+      mask[u] = hit ? static_cast<uchar>(views[centre.view].box->object_id) : 0;
+      surface[u] = hit ? 6 * centre.view + centre.face : -1;
+      cv::Vec3f colour(0, 0, 0);
+      if (ss == 1) {
+        colour = HitColour(views, centre_dir, centre);
+      } else {  // ss x ss sub-pixel rays on a regular grid
+        for (int sy = 0; sy < ss; ++sy) {
+          for (int sx = 0; sx < ss; ++sx) {
+            const Vec3 dir((u + (sx + 0.5) / ss - 0.5 - cx) / fx, (v + (sy + 0.5) / ss - 0.5 - cy) / fy, 1.0);
+            colour += HitColour(views, dir, TraceCameraRay(views, candidates, u, dir));
+          }
+        }
+        colour *= 1.0f / static_cast<float>(ss * ss);
+      }
+      bgr[u] = cv::Vec3b(cv::saturate_cast<uchar>(colour[0]), cv::saturate_cast<uchar>(colour[1]),
+                         cv::saturate_cast<uchar>(colour[2]));
+    }
+  }
+}
+
+// Depth noise and range limit: sequential, so the noise is a fixed function of noise_seed.
+void FinishDepth(const SynthOptions& options, std::uint32_t noise_seed, cv::Mat& depth_m) {
+  std::mt19937 rng(noise_seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (int v = 0; v < depth_m.rows; ++v) {
+    auto* depth = depth_m.ptr<float>(v);
+    for (int u = 0; u < depth_m.cols; ++u) {
+      double z = depth[u];
+      if (options.depth_noise_at_1m > 0 && z > 0) z += options.depth_noise_at_1m * z * z * normal(rng);
+      depth[u] = (z > 0 && z <= options.max_depth_m) ? static_cast<float>(z) : 0.f;
+    }
+  }
+}
+
+}  // namespace
+
 SynthFrame SyntheticScene::Render(const Rigid3& world_from_cam, double time, std::uint32_t noise_seed) const {
   std::vector<BoxView> views(boxes_.size());
   for (std::size_t i = 0; i < boxes_.size(); ++i) {
@@ -208,54 +266,10 @@ SynthFrame SyntheticScene::Render(const Rigid3& world_from_cam, double time, std
   frame.depth_m.create(height, width, CV_32F);
   frame.mover_mask.create(height, width, CV_8U);
   frame.surface_id.create(height, width, CV_32S);
-  const int ss = options_.supersampling;
-  const double fx = camera_.fx(), fy = camera_.fy(), cx = camera_.cx(), cy = camera_.cy();
-  cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& rows) {
-    std::vector<int> candidates;
-    for (int v = rows.start; v < rows.end; ++v) {
-      candidates.clear();
-      for (int i = 0; i < static_cast<int>(views.size()); ++i) {
-        if (v + 0.5 >= views[i].min_v && v - 0.5 <= views[i].max_v) candidates.push_back(i);
-      }
-      auto* bgr = frame.bgr.ptr<cv::Vec3b>(v);
-      auto* depth = frame.depth_m.ptr<float>(v);
-      auto* mask = frame.mover_mask.ptr<uchar>(v);
-      auto* surface = frame.surface_id.ptr<int>(v);
-      for (int u = 0; u < width; ++u) {
-        const Vec3 centre_dir((u - cx) / fx, (v - cy) / fy, 1.0);
-        const PixelHit centre = TraceCameraRay(views, candidates, u, centre_dir);
-        const bool hit = centre.view >= 0;
-        depth[u] = hit ? static_cast<float>(centre.t) : 0.f;
-        mask[u] = hit ? static_cast<uchar>(views[centre.view].box->object_id) : 0;
-        surface[u] = hit ? 6 * centre.view + centre.face : -1;
-        cv::Vec3f colour(0, 0, 0);
-        if (ss == 1) {
-          colour = HitColour(views, centre_dir, centre);
-        } else {
-          for (int sy = 0; sy < ss; ++sy) {
-            for (int sx = 0; sx < ss; ++sx) {
-              const Vec3 dir((u + (sx + 0.5) / ss - 0.5 - cx) / fx, (v + (sy + 0.5) / ss - 0.5 - cy) / fy, 1.0);
-              colour += HitColour(views, dir, TraceCameraRay(views, candidates, u, dir));
-            }
-          }
-          colour *= 1.0f / static_cast<float>(ss * ss);
-        }
-        bgr[u] = cv::Vec3b(cv::saturate_cast<uchar>(colour[0]), cv::saturate_cast<uchar>(colour[1]),
-                           cv::saturate_cast<uchar>(colour[2]));
-      }
-    }
-  });
-  // Depth noise and range limit: sequential, so the noise is a fixed function of noise_seed.
-  std::mt19937 rng(noise_seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  for (int v = 0; v < height; ++v) {
-    auto* depth = frame.depth_m.ptr<float>(v);
-    for (int u = 0; u < width; ++u) {
-      double z = depth[u];
-      if (options_.depth_noise_at_1m > 0 && z > 0) z += options_.depth_noise_at_1m * z * z * normal(rng);
-      depth[u] = (z > 0 && z <= options_.max_depth_m) ? static_cast<float>(z) : 0.f;
-    }
-  }
+  // Pixels are independent, so the parallel rendering is deterministic.
+  cv::parallel_for_(cv::Range(0, height),
+                    [&](const cv::Range& rows) { RenderRows(views, camera_, options_.supersampling, rows, frame); });
+  FinishDepth(options_, noise_seed, frame.depth_m);
   return frame;
 }
 

@@ -141,6 +141,13 @@ TEST(GeometryCheck, StaticSceneWithTruePosesHasAlmostNoFlags) {
   ASSERT_GT(result.num_tested, 1500);
   EXPECT_LE(result.dynamic_points.size(), result.num_tested / 200u);
   EXPECT_EQ(cv::countNonZero(result.dynamic_mask), 0);
+  std::vector<ReferenceKeyframe> points_only = keyframes;
+  for (auto& keyframe : points_only) keyframe.depth_m = cv::Mat();
+  const GeometryCheckResult without_depth = CheckMultiViewGeometry(
+      scene.camera(), current.world_from_cam.inverse(), current.depth_m, points_only, SmallGeometryOptions());
+  std::printf("static scene: tested %d, flagged %zu with keyframe depth, %zu points only\n", result.num_tested,
+              result.dynamic_points.size(), without_depth.dynamic_points.size());
+  EXPECT_LE(without_depth.dynamic_points.size(), without_depth.num_tested / 100u);
   // A wrong pose (60 cm backwards) makes most points look occluded: the check really compares depth.
   const Rigid3 wrong = Rigid3(Quat::Identity(), Vec3(0, 0, 0.6)) * current.world_from_cam.inverse();
   const GeometryCheckResult bad =
@@ -161,6 +168,36 @@ TEST(GeometryCheck, VanishedPointsAreReportedNotFlagged) {
   EXPECT_TRUE(result.dynamic_points.empty());
   ASSERT_EQ(result.vanished_points.size(), 1u);
   EXPECT_EQ(result.vanished_points[0].point, 0);
+}
+
+// Depth image of a camera at (centre_x, 0, 0) looking along +z: a static board at z = 1.5 m
+// covering x < 0, a wall at z = 3 m behind it.
+cv::Mat BoardAndWallDepth(const PinholeCamera& camera, double centre_x) {
+  cv::Mat depth(camera.height(), camera.width(), CV_32F);
+  for (int v = 0; v < depth.rows; ++v)
+    for (int u = 0; u < depth.cols; ++u)
+      depth.at<float>(v, u) = centre_x + 1.5 * (u - camera.cx()) / camera.fx() < 0 ? 1.5f : 3.0f;
+  return depth;
+}
+
+TEST(GeometryCheck, StaticOcclusionFromViewpointChangeIsVetoedByKeyframeDepth) {
+  const PinholeCamera camera(SynthOptions::DefaultIntrinsics());
+  ReferenceKeyframe keyframe;  // at the origin; sees the wall point right of the board's edge
+  keyframe.points_world = {Vec3(0.1, 0.0, 3.0)};
+  // The current camera 0.3 m to the left sees the board in front of that point (parallax 5.7 deg).
+  const Rigid3 cam_from_world = Rigid3(Quat::Identity(), Vec3(0.3, 0, 0));
+  const cv::Mat current_depth = BoardAndWallDepth(camera, -0.3);
+  GeometryCheckResult result =
+      CheckMultiViewGeometry(camera, cam_from_world, current_depth, {keyframe}, GeometryCheckOptions{});
+  EXPECT_EQ(result.dynamic_points.size(), 1u);  // points only: indistinguishable from a mover
+  keyframe.depth_m = BoardAndWallDepth(camera, 0.0);
+  result = CheckMultiViewGeometry(camera, cam_from_world, current_depth, {keyframe}, GeometryCheckOptions{});
+  EXPECT_EQ(result.num_tested, 1);
+  EXPECT_TRUE(result.dynamic_points.empty());  // the keyframe saw the board there: static
+  // Had the keyframe seen the wall where the board is now, the board moved in: dynamic.
+  keyframe.depth_m = cv::Mat(camera.height(), camera.width(), CV_32F, cv::Scalar(3.0f));
+  result = CheckMultiViewGeometry(camera, cam_from_world, current_depth, {keyframe}, GeometryCheckOptions{});
+  EXPECT_EQ(result.dynamic_points.size(), 1u);
 }
 
 TEST(GeometryCheck, SkipsPointsSeenWithLargeParallax) {
