@@ -1,5 +1,6 @@
 #include "semantic/onnx_segmenter.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include <opencv2/imgproc.hpp>
@@ -90,14 +91,37 @@ SegmentationResult OnnxSegmenter::Segment(const cv::Mat& bgr, double /*timestamp
     cv::resize(SoftmaxProbability(scores, options_.person_class), result.person_probability, image_size, 0, 0,
                cv::INTER_LINEAR);
   }
+  const cv::Mat network_labels = ArgmaxLabels(scores);
   if (options_.upsample_scores) {
-    for (auto& s : scores) cv::resize(s, s, image_size, 0, 0, cv::INTER_LINEAR);
-    result.labels = ArgmaxLabels(scores);
+    result.labels = UpsampledLabels(scores, network_labels, image_size);
   } else {
-    cv::resize(ArgmaxLabels(scores), result.labels, image_size, 0, 0, cv::INTER_NEAREST);
+    cv::resize(network_labels, result.labels, image_size, 0, 0, cv::INTER_NEAREST);
   }
   result.segment_ms = watch.ElapsedMs();
   return result;
+}
+
+cv::Mat UpsampledLabels(const std::vector<cv::Mat>& scores, const cv::Mat& network_labels, cv::Size image_size) {
+  // Only classes that win somewhere at network resolution compete (typically 2-4 of 21).
+  std::array<int, 256> pixels_per_class{};
+  for (int y = 0; y < network_labels.rows; ++y) {
+    const auto* row = network_labels.ptr<std::uint8_t>(y);
+    for (int x = 0; x < network_labels.cols; ++x) ++pixels_per_class[row[x]];
+  }
+  std::vector<cv::Mat> upsampled;
+  std::vector<std::uint8_t> ids;
+  for (std::size_t c = 0; c < scores.size(); ++c) {
+    if (pixels_per_class[c] == 0) continue;
+    upsampled.emplace_back();
+    cv::resize(scores[c], upsampled.back(), image_size, 0, 0, cv::INTER_LINEAR);
+    ids.push_back(static_cast<std::uint8_t>(c));
+  }
+  const cv::Mat index = ArgmaxLabels(upsampled);  // index into `ids`
+  cv::Mat lut(1, 256, CV_8UC1, cv::Scalar(0));
+  for (std::size_t i = 0; i < ids.size(); ++i) lut.at<std::uint8_t>(static_cast<int>(i)) = ids[i];
+  cv::Mat labels;
+  cv::LUT(index, lut, labels);
+  return labels;
 }
 
 cv::Mat ArgmaxLabels(const std::vector<cv::Mat>& scores) {
@@ -106,20 +130,21 @@ cv::Mat ArgmaxLabels(const std::vector<cv::Mat>& scores) {
   for (const auto& s : scores)
     if (s.type() != CV_32FC1 || s.size() != size) throw Error("ArgmaxLabels: score planes must be CV_32FC1 of one size");
   cv::Mat labels(size, CV_8UC1);
-  std::vector<const float*> rows(scores.size());
+  std::vector<float> best(static_cast<std::size_t>(size.width));
   for (int y = 0; y < size.height; ++y) {
-    for (std::size_t c = 0; c < scores.size(); ++c) rows[c] = scores[c].ptr<float>(y);
     auto* out = labels.ptr<std::uint8_t>(y);
-    for (int x = 0; x < size.width; ++x) {
-      std::size_t best = 0;  // ties keep the lower class id
-      float best_score = rows[0][x];
-      for (std::size_t c = 1; c < rows.size(); ++c) {
-        if (rows[c][x] > best_score) {
-          best_score = rows[c][x];
-          best = c;
-        }
+    const float* first = scores[0].ptr<float>(y);
+    std::copy(first, first + size.width, best.begin());
+    std::fill(out, out + size.width, 0);
+    // Class-major within a row: contiguous, vectorisable loops. Ties keep the lower class id.
+    for (std::size_t c = 1; c < scores.size(); ++c) {
+      const float* row = scores[c].ptr<float>(y);
+      const auto id = static_cast<std::uint8_t>(c);
+      for (int x = 0; x < size.width; ++x) {
+        const bool better = row[x] > best[static_cast<std::size_t>(x)];
+        best[static_cast<std::size_t>(x)] = better ? row[x] : best[static_cast<std::size_t>(x)];
+        out[x] = better ? id : out[x];
       }
-      out[x] = static_cast<std::uint8_t>(best);
     }
   }
   return labels;

@@ -4,8 +4,12 @@
 //
 // Pipeline per frame: resize the whole frame to the network input (bilinear, cv::resize on
 // 8 bits), BGR->RGB, /255, (x - mean) / std, run, then
-//   upsample_scores = true  (default): resize the 21 class-score planes bilinearly to the image
-//                          size and take the argmax per pixel (smooth, sub-input-pixel borders);
+//   upsample_scores = true  (default): resize the class-score planes bilinearly to the image
+//                          size and take the argmax per pixel (smooth, sub-input-pixel borders).
+//                          Only classes that win at least one pixel at network resolution take
+//                          part (a class that wins nowhere could at most win a sliver along a
+//                          border between two others); this cuts the cost from 21 planes to the
+//                          2-4 classes a frame typically holds;
 //   upsample_scores = false: argmax at network resolution, labels resized with nearest neighbour
 //                          (faster, blocky borders).
 // The person probability (softmax of the person class) is computed at network resolution and
@@ -26,8 +30,8 @@ namespace esdslam {
 
 struct OnnxSegmenterOptions {
   std::string model_path;  // Semantic.model (already resolved; see ResolveModelPath)
-  int input_width = 256;   // Semantic.inputWidth: the width the model was exported for (px)
-  int input_height = 192;  // Semantic.inputHeight
+  int input_width = 384;   // Semantic.inputWidth: the width the model was exported for (px)
+  int input_height = 288;  // Semantic.inputHeight
   std::array<float, 3> mean_rgb{0.485f, 0.456f, 0.406f};  // of the /255 input, RGB order
   std::array<float, 3> std_rgb{0.229f, 0.224f, 0.225f};
   std::vector<std::string> class_names = VocClassNames();
@@ -65,6 +69,9 @@ class OnnxSegmenter : public Segmenter {
 
 // Argmax over score planes (all the same size, CV_32FC1) -> CV_8UC1 labels.
 cv::Mat ArgmaxLabels(const std::vector<cv::Mat>& scores);
+// Labels at `image_size` from network-resolution scores and their argmax `network_labels`
+// (see upsample_scores above).
+cv::Mat UpsampledLabels(const std::vector<cv::Mat>& scores, const cv::Mat& network_labels, cv::Size image_size);
 // Softmax probability of class `class_id` -> CV_32FC1.
 cv::Mat SoftmaxProbability(const std::vector<cv::Mat>& scores, int class_id);
 

@@ -2,9 +2,9 @@
 // Semantic options from an ORB-SLAM2-style YAML settings file (flat keys). Keys read, all
 // optional:
 //   Semantic.segmenter: onnx | folder                  (default onnx)
-//   Semantic.model: path to the .onnx file             (default models/espnetv2_s2.0_voc_256x192.onnx)
+//   Semantic.model: path to the .onnx file             (default models/espnetv2_s2.0_voc_384x288.onnx)
 //   Semantic.inputWidth, Semantic.inputHeight: network input size in pixels (default: taken from a
-//       model file name ending in _<W>x<H>.onnx, else 256x192)
+//       model file name ending in _<W>x<H>.onnx, else 384x288)
 //   Semantic.threads: OpenCV threads, 0 = leave unchanged (default 0)
 //   Semantic.upsampleScores: 1/0 (default 1, see onnx_segmenter.h)
 //   Semantic.dynamicClasses, Semantic.potentiallyDynamicClasses: VOC class names, as a YAML list
@@ -23,7 +23,7 @@
 
 namespace esdslam {
 
-inline constexpr const char* kDefaultSegmentationModel = "models/espnetv2_s2.0_voc_256x192.onnx";
+inline constexpr const char* kDefaultSegmentationModel = "models/espnetv2_s2.0_voc_384x288.onnx";
 
 struct SemanticSettings {
   enum class Kind { kOnnx, kFolder };

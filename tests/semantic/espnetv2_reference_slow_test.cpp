@@ -3,10 +3,12 @@
 // fresh export by tools/espnetv2/export.py (skipped without python3-torch).
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <unistd.h>
 
 #include "semantic/onnx_segmenter.h"
@@ -57,6 +59,25 @@ TEST(EspNetV2Reference, LabelsAndPersonProbabilityMatchTheOriginalNetwork) {
   EXPECT_EQ(frames, 6);
 }
 
+// Segment() upsamples only the classes present at network resolution; compare with upsampling
+// all 21 score planes at full 640x480 resolution.
+TEST(EspNetV2Reference, UpsamplingPresentClassesMatchesUpsamplingAll) {
+  if (!fs::is_directory(kReferenceDir)) GTEST_SKIP() << "no reference data at " << kReferenceDir;
+  OnnxSegmenter segmenter = MakeSegmenter(kModelDir / "espnetv2_s2.0_voc_384x288.onnx", 384, 288);
+  for (const char* name : {"bonn_crowd_1548339830.60015.png", "bonn_crowd_1548339839.64913.png"}) {
+    const cv::Mat bgr = cv::imread((kReferenceDir / name).string(), cv::IMREAD_COLOR);
+    ASSERT_FALSE(bgr.empty());
+    std::vector<cv::Mat> scores = segmenter.Scores(bgr);
+    for (auto& s : scores) cv::resize(s, s, bgr.size(), 0, 0, cv::INTER_LINEAR);
+    const cv::Mat all = ArgmaxLabels(scores);
+    const cv::Mat labels = segmenter.Segment(bgr, 0.0).labels;
+    ASSERT_EQ(labels.size(), bgr.size());
+    const double agreement = cv::countNonZero(labels == all) / static_cast<double>(all.total());
+    EXPECT_GE(agreement, 0.9999) << name;
+    EXPECT_GT(cv::countNonZero(labels == kVocPersonClass), 0.05 * static_cast<double>(labels.total())) << name;
+  }
+}
+
 TEST(EspNetV2Reference, CommittedModelsEqualAFreshExport) {
   if (std::system("/usr/bin/python3 -c 'import torch, onnx' >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "python3-torch / python3-onnx not installed";
@@ -79,6 +100,34 @@ TEST(EspNetV2Reference, CommittedModelsEqualAFreshExport) {
     for (std::size_t c = 0; c < a.size(); ++c) worst = std::max(worst, cv::norm(a[c], b[c], cv::NORM_INF));
     EXPECT_LT(worst, 1e-3) << file;
   }
+  fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace esdslam
+
+namespace esdslam {
+namespace {
+
+// `esdslam segment` end to end (skipped when the program has not been built).
+TEST(EsdslamSegmentCommand, WritesFullResolutionLabelsAndFailsOnABadModel) {
+  const fs::path program = fs::path(ESDSLAM_BINARY_DIR) / "esdslam";
+  if (!fs::exists(program)) GTEST_SKIP() << "build the esdslam target first";
+  if (!fs::is_directory(kReferenceDir)) GTEST_SKIP() << "no reference data at " << kReferenceDir;
+  const fs::path out = fs::temp_directory_path() / ("esdslam_segment_cmd_" + std::to_string(::getpid()));
+  const std::string image = (kReferenceDir / "bonn_crowd_1548339830.60015.png").string();
+  const std::string ok = program.string() + " segment " + image + " --overlay --out " + out.string() + " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(ok.c_str()), 0) << ok;
+  const cv::Mat labels = cv::imread((out / "bonn_crowd_1548339830.60015.labels.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(labels.type(), CV_8UC1);
+  EXPECT_EQ(labels.size(), cv::Size(640, 480));
+  EXPECT_GT(cv::countNonZero(labels == kVocPersonClass), 0.05 * static_cast<double>(labels.total()));
+  EXPECT_TRUE(fs::exists(out / "bonn_crowd_1548339830.60015.overlay.png"));
+  const fs::path bad = out / "bad_384x288.onnx";
+  std::ofstream(bad) << "not a model";
+  const std::string fail = program.string() + " segment " + image + " --model " + bad.string() + " --out " +
+                           out.string() + " >/dev/null 2>&1";
+  EXPECT_NE(std::system(fail.c_str()), 0);
   fs::remove_all(out);
 }
 

@@ -56,6 +56,8 @@ TEST(OnnxSegmenter, OptionsCheck) {
 TEST(OnnxSegmenter, ShippedModelLabelsAtImageResolution) {
   OnnxSegmenterOptions o;
   o.model_path = ShippedModel();
+  o.input_width = 256;
+  o.input_height = 192;
   OnnxSegmenter segmenter(o);
   const cv::Mat grey(120, 200, CV_8UC3, cv::Scalar::all(128));  // a blank wall: background
   const SegmentationResult r = segmenter.Segment(grey, 0.0);

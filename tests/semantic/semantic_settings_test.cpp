@@ -32,15 +32,15 @@ TEST_F(SemanticSettingsTest, ReadsOrbSlamStyleFileWithYamlDirective) {
   const std::string path = Write(
       "%YAML:1.0\n"
       "Camera.fx: 542.822841\n"
-      "Semantic.model: \"models/espnetv2_s2.0_voc_384x288.onnx\"\n"
+      "Semantic.model: \"models/espnetv2_s2.0_voc_256x192.onnx\"\n"
       "Semantic.threads: 2\n"
       "Semantic.dynamicClasses: [person, dog]\n"
       "Semantic.potentiallyDynamicClasses: \"chair, bottle\"\n"
       "Semantic.realtime: 1\n");
   const SemanticSettings s = LoadSemanticSettings(path);
   EXPECT_EQ(s.kind, SemanticSettings::Kind::kOnnx);
-  EXPECT_EQ(s.onnx.input_width, 384);  // from the model name
-  EXPECT_EQ(s.onnx.input_height, 288);
+  EXPECT_EQ(s.onnx.input_width, 256);  // from the model name
+  EXPECT_EQ(s.onnx.input_height, 192);
   EXPECT_EQ(s.onnx.threads, 2);
   EXPECT_EQ(s.groups.dynamic_classes, (std::vector<std::string>{"person", "dog"}));
   EXPECT_EQ(s.groups.potentially_dynamic_classes, (std::vector<std::string>{"chair", "bottle"}));
@@ -59,8 +59,8 @@ TEST_F(SemanticSettingsTest, ExplicitInputSizeWinsOverTheModelName) {
 TEST_F(SemanticSettingsTest, DefaultsFindTheShippedModel) {
   const SemanticSettings s = LoadSemanticSettings("");
   EXPECT_TRUE(fs::exists(s.onnx.model_path)) << s.onnx.model_path;
-  EXPECT_EQ(s.onnx.input_width, 256);
-  EXPECT_EQ(s.onnx.input_height, 192);
+  EXPECT_EQ(s.onnx.input_width, 384);
+  EXPECT_EQ(s.onnx.input_height, 288);
   EXPECT_EQ(s.groups.dynamic_classes, std::vector<std::string>{"person"});
   EXPECT_EQ(s.mode, SegmentationMode::kEveryFrame);
 }
