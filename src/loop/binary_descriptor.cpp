@@ -15,8 +15,6 @@ std::vector<Descriptor256> DescriptorsFromMat(const cv::Mat& descriptors) {
 }
 
 Descriptor256 MajorityDescriptor(const std::vector<Descriptor256>& descriptors, const std::vector<int>& indices) {
-  // Bit counts per position, accumulated byte-wise through a 256-entry table would be faster,
-  // but this loop is dominated by memory traffic at training sizes.
   std::array<int, 256> ones{};
   for (const int index : indices) {
     const Descriptor256& d = descriptors[index];
@@ -29,10 +27,10 @@ Descriptor256 MajorityDescriptor(const std::vector<Descriptor256>& descriptors, 
       }
     }
   }
-  const int half = static_cast<int>(indices.size());
+  const int count = static_cast<int>(indices.size());
   Descriptor256 centre{};
   for (int i = 0; i < 256; ++i) {
-    if (2 * ones[i] > half) centre[i / 64] |= std::uint64_t{1} << (i % 64);
+    if (2 * ones[i] > count) centre[i / 64] |= std::uint64_t{1} << (i % 64);
   }
   return centre;
 }
