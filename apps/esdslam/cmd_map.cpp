@@ -17,6 +17,7 @@
 #include "io/settings_table.h"
 #include "io/trajectory_io.h"
 #include "io/tum_sequence.h"
+#include "system/run_settings.h"
 
 namespace esdslam::cli {
 namespace {
@@ -58,15 +59,9 @@ cv::Mat LoadMask(const std::string& masks_dir, const FrameEntry& frame) {
 }
 
 int RunMap(const MapArgs& args) {
-  Settings settings;
-  DenseOptions dense_options;
-  SettingsTable table;
-  BindCoreSettings(settings, table);
-  BindDenseSettings(dense_options, table);
-  table.Ignore("");  // other stages' keys are not needed here
-  table.Load(args.settings_path);
-  settings.Check();
-  dense_options.Check();
+  const RunSettings run_settings = LoadRunSettings(args.settings_path);  // one key table for every stage
+  const Settings& settings = run_settings.core;
+  const DenseOptions& dense_options = run_settings.dense;
 
   const TumSequence sequence = TumSequence::Open(args.sequence_dir);
   const std::vector<StampedPose> poses = ReadTumTrajectory(args.trajectory_path);

@@ -1,10 +1,12 @@
-// `esdslam run --settings FILE --sequence DIR --out DIR`: runs the SLAM system over a TUM-layout
-// RGB-D sequence and writes trajectory.txt, keyframes.txt, timing.csv and settings_used.yaml.
+// `esdslam run --settings FILE --sequence DIR --out DIR [--mode none|semantic]`: runs the SLAM
+// system over a TUM-layout RGB-D sequence and writes trajectory.txt, keyframes.txt, timing.csv and
+// settings_used.yaml (every stage's keys); with --dense also the dense map (system/dynamic_run.h).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,8 @@
 #include "io/settings.h"
 #include "io/trajectory_io.h"
 #include "io/tum_sequence.h"
+#include "system/dynamic_run.h"
+#include "system/run_settings.h"
 #include "system/slam_system.h"
 
 namespace esdslam::cli {
@@ -28,6 +32,10 @@ struct RunArgs {
   int max_frames = 0;
   bool single_thread = false;
   unsigned seed = 0;
+  std::string mode = "semantic";
+  bool realtime = false;
+  bool dense = false;
+  std::string debug_frames_dir;
 };
 
 struct FrameTiming {
@@ -35,6 +43,12 @@ struct FrameTiming {
   double load_ms = 0, extract_ms = 0, track_ms = 0;
   TrackingState state = TrackingState::kNotInitialized;
   bool has_pose = false;
+  // Semantic stage (0 in mode none): segmentation latency of the frame whose labels were used,
+  // time tracking waited for them, mask refinement, label age in frames, keypoints flagged.
+  double seg_latency_ms = 0, seg_wait_ms = 0, mask_ms = 0;
+  long label_age = -1;
+  double dynamic_fraction = 0;
+  int keypoints = 0, dynamic_keypoints = 0;
 };
 
 void LogSettings(const Settings& s, const RunArgs& args) {
@@ -51,10 +65,12 @@ void LogSettings(const Settings& s, const RunArgs& args) {
 void WriteTiming(const std::string& path, const std::vector<FrameTiming>& timings) {
   std::ofstream out(path);
   if (!out) throw Error("cannot write " + path);
-  out << "timestamp,load_ms,extract_ms,track_ms,state,lost\n";
+  out << "timestamp,load_ms,extract_ms,track_ms,state,lost,seg_latency_ms,seg_wait_ms,mask_ms,label_age,"
+         "dynamic_fraction,keypoints,dynamic_keypoints\n";
   for (const FrameTiming& t : timings)
-    out << fmt::format("{:.6f},{:.3f},{:.3f},{:.3f},{},{}\n", t.timestamp, t.load_ms, t.extract_ms, t.track_ms,
-                       ToString(t.state), t.has_pose ? 0 : 1);
+    out << fmt::format("{:.6f},{:.3f},{:.3f},{:.3f},{},{},{:.3f},{:.3f},{:.3f},{},{:.4f},{},{}\n", t.timestamp,
+                       t.load_ms, t.extract_ms, t.track_ms, ToString(t.state), t.has_pose ? 0 : 1, t.seg_latency_ms,
+                       t.seg_wait_ms, t.mask_ms, t.label_age, t.dynamic_fraction, t.keypoints, t.dynamic_keypoints);
 }
 
 struct StageStats {
@@ -70,10 +86,11 @@ StageStats Stats(std::vector<double> values) {
 }
 
 void PrintSummary(const std::vector<FrameTiming>& timings, int total_frames, const SlamSystem& system) {
-  std::vector<double> load, extract, track;
+  std::vector<double> load, extract, track, seg_latency, seg_wait, mask;
   int tracked = 0;
   for (const FrameTiming& t : timings) {
     load.push_back(t.load_ms), extract.push_back(t.extract_ms), track.push_back(t.track_ms);
+    seg_latency.push_back(t.seg_latency_ms), seg_wait.push_back(t.seg_wait_ms), mask.push_back(t.mask_ms);
     tracked += t.has_pose;
   }
   const auto print = [](const char* name, const StageStats& s) {
@@ -82,18 +99,28 @@ void PrintSummary(const std::vector<FrameTiming>& timings, int total_frames, con
   print("load", Stats(load));
   print("extract", Stats(extract));
   print("track", Stats(track));
+  print("seg_lat", Stats(seg_latency));
+  print("seg_wait", Stats(seg_wait));
+  print("mask", Stats(mask));
   std::printf("frames_tracked %d / %d (processed %zu)\n", tracked, total_frames, timings.size());
   std::printf("keyframes %d\nmap_points %d\n", system.num_keyframes(), system.num_map_points());
 }
 
-void WriteResults(const RunArgs& args, SlamSystem& system, const Settings& settings,
+void WriteResults(const RunArgs& args, DynamicRun& run, const RunSettings& settings,
                   const std::vector<FrameTiming>& timings) {
-  system.Shutdown();
+  SlamSystem& system = run.system();
+  std::string shutdown_error;  // results are written even when local mapping failed
+  try {
+    run.Finish(args.out_dir);
+  } catch (const Error& e) {
+    shutdown_error = e.what();
+  }
   const std::filesystem::path out(args.out_dir);
   WriteTumTrajectory((out / "trajectory.txt").string(), system.Trajectory());
   WriteTumTrajectory((out / "keyframes.txt").string(), system.KeyFrameTrajectory());
   WriteTiming((out / "timing.csv").string(), timings);
-  SaveSettings(settings, (out / "settings_used.yaml").string());
+  SaveRunSettings(settings, (out / "settings_used.yaml").string());
+  if (!shutdown_error.empty()) throw Error(shutdown_error);
 }
 
 void ShowProgress(std::size_t i, std::size_t n, const FrameTiming& t, const SlamSystem& system, double elapsed_ms) {
@@ -103,41 +130,69 @@ void ShowProgress(std::size_t i, std::size_t n, const FrameTiming& t, const Slam
   if (i + 1 == n) std::fprintf(stderr, "\n");
 }
 
+// One line per effective settings key (all stages), after the command-line overrides.
+void LogEffectiveSettings(const RunSettings& settings, const DynamicRunOptions& options) {
+  spdlog::info("run: mode {}, segmentation {}, dense {}, debug frames {}", ToString(options.mode),
+               options.realtime ? "real time (newest wins)" : "every frame", options.dense ? "on" : "off",
+               options.debug_frames_dir.empty() ? "off" : options.debug_frames_dir);
+  std::istringstream lines(RunSettingsYaml(settings));
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("%YAML", 0) != 0) spdlog::info("settings: {}", line);
+  }
+}
+
+void CopyStep(const FrameStep& step, FrameTiming& t) {
+  t.load_ms = step.load_ms;
+  t.extract_ms = step.outcome.extract_ms, t.track_ms = step.outcome.track_ms;
+  t.state = step.outcome.state, t.has_pose = step.outcome.has_pose;
+  t.seg_latency_ms = step.mask.latency_ms, t.seg_wait_ms = step.mask.wait_ms, t.mask_ms = step.mask.refine_ms;
+  t.dynamic_fraction = step.mask.dynamic_fraction;
+  t.keypoints = step.keypoints, t.dynamic_keypoints = step.dynamic_keypoints;
+}
+
 int Run(const RunArgs& args) {
-  const Settings settings = LoadSettings(args.settings_path);
+  RunSettings run_settings = LoadRunSettings(args.settings_path);
+  const Settings& settings = run_settings.core;
   const TumSequence sequence = TumSequence::Open(args.sequence_dir);
   std::filesystem::create_directories(args.out_dir);
   LogSettings(settings, args);
   SlamOptions options;
   options.single_thread = args.single_thread;
   options.seed = args.seed;
-  SlamSystem system(settings, options);
+  DynamicRunOptions run_options;
+  run_options.mode = ParseDynamicMode(args.mode);
+  run_options.realtime = args.realtime || run_settings.semantic.mode == SegmentationMode::kNewestWins;
+  if (run_options.realtime) run_settings.semantic.mode = SegmentationMode::kNewestWins;
+  run_options.dense = args.dense;
+  run_options.debug_frames_dir = args.debug_frames_dir;
+  run_options.threaded_dense = !args.single_thread;
+  LogEffectiveSettings(run_settings, run_options);
   std::size_t n = sequence.frames().size();
   if (args.max_frames > 0) n = std::min<std::size_t>(n, args.max_frames);
+  const std::vector<FrameEntry> frames(sequence.frames().begin(), sequence.frames().begin() + n);
+  DynamicRun run(run_settings, options, run_options, frames);
+  SlamSystem& system = run.system();
   std::vector<FrameTiming> timings;
   Stopwatch total;
   try {
     for (std::size_t i = 0; i < n; ++i) {
       FrameTiming t;
-      const FrameEntry& entry = sequence.frames()[i];
-      t.timestamp = entry.timestamp;
-      Stopwatch load;
-      const RgbdImages images = LoadRgbd(entry, settings.depth_map_factor);
-      t.load_ms = load.ElapsedMs();
-      const TrackOutcome outcome = system.TrackRgbd(images.bgr, images.depth_m, entry.timestamp);
-      t.extract_ms = outcome.extract_ms, t.track_ms = outcome.track_ms;
-      t.state = outcome.state, t.has_pose = outcome.has_pose;
+      t.timestamp = frames[i].timestamp;
+      const FrameStep step = run.Step(i);
+      CopyStep(step, t);
+      if (step.mask.source_id >= 0) t.label_age = static_cast<long>(i) - static_cast<long>(step.mask.source_id);
       timings.push_back(t);
       if ((i + 1) % 10 == 0 || i + 1 == n) ShowProgress(i, n, t, system, total.ElapsedMs());
     }
   } catch (const Error& e) {
     std::fprintf(stderr, "\n");
     spdlog::error("run: stopped at frame {}: {}", timings.size(), e.what());
-    WriteResults(args, system, settings, timings);
+    WriteResults(args, run, run_settings, timings);
     PrintSummary(timings, static_cast<int>(n), system);
     return 1;
   }
-  WriteResults(args, system, settings, timings);
+  WriteResults(args, run, run_settings, timings);
   PrintSummary(timings, static_cast<int>(n), system);
   return 0;
 }
@@ -153,6 +208,19 @@ RunFn Setup(CLI::App& app) {
   app.add_flag("--single-thread", args->single_thread,
                "Run local mapping on the tracking thread (deterministic, repeatable)");
   app.add_option("--seed", args->seed, "Seed for random choices")->capture_default_str();
+  app.add_option("--mode", args->mode,
+                 "Dynamic-object handling: none (plain ORB-SLAM2 RGB-D) | semantic (segmentation + depth region "
+                 "growing masks)")
+      ->check(CLI::IsMember({"none", "semantic"}))
+      ->capture_default_str();
+  app.add_flag("--realtime", args->realtime,
+               "Real-time segmentation hand-off: newest finished labels, carried to the frame by the motion "
+               "model and depth (default: wait for every frame's labels)");
+  app.add_flag("--dense", args->dense,
+               "Build the static dense map of the keyframes: dense.ply, octomap.bt, dense_top.png, "
+               "dense_view.png and masks/<timestamp>.png in the output folder");
+  app.add_option("--debug-frames", args->debug_frames_dir,
+                 "Write per-frame PNGs (kept keypoints green, removed red, mask outline) to this folder");
   return [args] { return Run(*args); };
 }
 

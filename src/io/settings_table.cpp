@@ -85,6 +85,19 @@ void Flatten(const YAML::Node& map, const std::string& prefix, const std::string
   }
 }
 
+bool IsScalarList(const YAML::Node& list) {
+  for (const auto& item : list) {
+    if (!item.IsScalar()) return false;
+  }
+  return true;
+}
+
+std::string JoinScalars(const YAML::Node& list) {
+  std::string text;
+  for (const auto& item : list) text += (text.empty() ? "" : ",") + item.Scalar();
+  return text;
+}
+
 }  // namespace
 
 void SettingsTable::AddEntry(Entry entry) {
@@ -159,6 +172,10 @@ std::vector<std::string> SettingsTable::LoadFromString(const std::string& text, 
         warnings.push_back(fmt::format("{}:{}: unknown settings key '{}' (ignored)", name, value.line, key));
         spdlog::warn("{}", warnings.back());
       }
+      continue;
+    }
+    if (value.node.IsSequence() && entry->type_name == "string" && IsScalarList(value.node)) {
+      entry->parse(JoinScalars(value.node));  // a list of scalars binds to text as "a,b,c"
       continue;
     }
     if (!value.node.IsScalar() || !entry->parse(value.node.Scalar())) {

@@ -27,6 +27,7 @@ class SettingsTable {
   void Add(const std::string& key, double* field, Need need = Need::kOptional);
   void Add(const std::string& key, int* field, Need need = Need::kOptional);  // accepts 640 and 640.0
   void Add(const std::string& key, bool* field, Need need = Need::kOptional); // true/false/1/0
+  // A YAML list of scalars ([a, b]) also binds to a string field, as comma-joined text "a,b".
   void Add(const std::string& key, std::string* field, Need need = Need::kOptional);
   void Ignore(const std::string& key_prefix);
 

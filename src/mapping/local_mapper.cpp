@@ -72,12 +72,21 @@ void LocalMapper::Close(bool drop_pending) {
   } else {
     ProcessQueued();
   }
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  if (!worker_error_.empty()) throw Error("local mapping failed: " + worker_error_);
 }
 
 void LocalMapper::Run() {
   while (auto keyframe = queue_.Pop()) {
     idle_ = false;
-    ProcessKeyFrame(*keyframe);
+    try {
+      ProcessKeyFrame(*keyframe);
+    } catch (const std::exception& e) {
+      // Reported by Close(); later keyframes are still inserted so that the map stays usable.
+      spdlog::error("local mapping: keyframe {}: {}", (*keyframe)->id(), e.what());
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      if (worker_error_.empty()) worker_error_ = e.what();
+    }
     --in_flight_;
     idle_ = true;
   }

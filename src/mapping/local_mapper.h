@@ -11,6 +11,7 @@
 #include <atomic>
 #include <deque>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -60,7 +61,7 @@ class LocalMapper : public KeyFrameSink {
   // hold the map update mutex).
   void ProcessQueued();
   // Stops accepting keyframes, processes (or with drop_pending only inserts) the queued ones and
-  // joins the worker. Idempotent.
+  // joins the worker. Idempotent. Throws Error if processing failed on the worker thread.
   void Close(bool drop_pending = false);
 
   LocalMapperStats stats() const;
@@ -83,6 +84,7 @@ class LocalMapper : public KeyFrameSink {
   std::vector<MapPoint*> recent_points_;  // worker-owned
   mutable std::mutex stats_mutex_;
   LocalMapperStats stats_;
+  std::string worker_error_;  // first exception caught on the worker thread (under stats_mutex_)
   bool closed_ = false;
 };
 

@@ -13,6 +13,7 @@ namespace esdslam {
 void SlamOptions::Check() const {
   tracker.Check();
   mapping.Check();
+  loop.Check();
 }
 
 SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
@@ -24,7 +25,15 @@ SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
   rig_ = MakeRgbdRig(settings_.camera, settings_.bf, settings_.th_depth, *extractor_);
   map_ = std::make_unique<Map>();
   mapper_ = std::make_unique<LocalMapper>(map_.get(), options_.mapping, !options_.single_thread);
-  tracker_ = std::make_unique<Tracker>(map_.get(), mapper_.get(), options_.tracker);
+  KeyFrameSink* sink = mapper_.get();
+  if (options_.loop.relocalization) {
+    places_ = std::make_unique<PlaceRecognition>(LoadVocabulary(options_.loop.vocabulary), options_.loop.places);
+    indexing_sink_ = std::make_unique<PlaceIndexingSink>(mapper_.get(), places_.get());
+    sink = indexing_sink_.get();
+    relocalizer_ = std::make_unique<Relocalizer>(places_.get(), options_.loop.relocalizer);
+  }
+  tracker_ = std::make_unique<Tracker>(map_.get(), sink, options_.tracker);
+  tracker_->set_relocalizer(relocalizer_.get());
   mapper_->Start();
   spdlog::info("slam: {} mode, close depth < {:.2f} m, keyframe at least every {} frames",
                options_.single_thread ? "single-thread" : "two-thread", rig_->th_depth_m,

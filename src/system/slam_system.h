@@ -17,6 +17,9 @@
 #include "io/trajectory_io.h"
 #include "map/map.h"
 #include "mapping/local_mapper.h"
+#include "system/loop_settings.h"
+#include "system/place_indexing_sink.h"
+#include "tracking/relocalizer.h"
 #include "tracking/tracker.h"
 
 namespace esdslam {
@@ -27,6 +30,7 @@ struct SlamOptions {
   TrackerOptions tracker;      // max_frames_between_keyframes is set from Settings::fps
   LocalMapperOptions mapping;
   FrameOptions frame;
+  LoopOptions loop;            // place recognition and relocalization (system/loop_settings.h)
   void Check() const;
 };
 
@@ -65,7 +69,12 @@ class SlamSystem {
   int num_map_points() const { return map_->num_map_points(); }
   int frames_seen() const { return static_cast<int>(next_frame_id_); }
   LocalMapperStats mapping_stats() const { return mapper_->stats(); }
+  int relocalizations() const { return tracker_->relocalizations(); }
+  // Null when relocalization is disabled.
+  PlaceRecognition* place_recognition() { return places_.get(); }
   Map& map() { return *map_; }
+  // The frame of the last TrackRgbd call (keypoints, is_dynamic flags, associations).
+  const Frame& last_frame() const { return tracker_->last_frame(); }
   const std::shared_ptr<const RgbdRig>& rig() const { return rig_; }
 
  private:
@@ -81,6 +90,9 @@ class SlamSystem {
   std::shared_ptr<const RgbdRig> rig_;
   std::unique_ptr<Map> map_;
   std::unique_ptr<LocalMapper> mapper_;
+  std::unique_ptr<PlaceRecognition> places_;          // null without relocalization
+  std::unique_ptr<PlaceIndexingSink> indexing_sink_;  // tracking -> (BoW indexing) -> local mapping
+  std::unique_ptr<Relocalizer> relocalizer_;
   std::unique_ptr<Tracker> tracker_;
   long next_frame_id_ = 0;
   mutable std::mutex records_mutex_;

@@ -46,6 +46,17 @@ float DepthAt(const cv::Mat& depth_m, const cv::KeyPoint& keypoint) {
   return std::isfinite(d) && d > 0 ? d : 0.f;
 }
 
+// The extractor maps a level-l corner to level 0 as x * s_l; with cv::resize's pixel-centre
+// alignment the same image point is at (x + 0.5) * s_l - 0.5, i.e. 0.5 * (s_l - 1) px further
+// right/down. Without this, keypoints of coarse levels are biased by up to ~1.3 px.
+void CorrectPyramidOffsets(const std::vector<double>& scale_factors, std::vector<cv::KeyPoint>* keypoints) {
+  for (cv::KeyPoint& keypoint : *keypoints) {
+    const float offset = static_cast<float>(0.5 * (scale_factors[keypoint.octave] - 1.0));
+    keypoint.pt.x += offset;
+    keypoint.pt.y += offset;
+  }
+}
+
 }  // namespace
 
 Frame::Frame(long id, double timestamp, const cv::Mat& image, const cv::Mat& depth_m, const cv::Mat& dynamic_mask,
@@ -64,6 +75,7 @@ Frame::Frame(long id, double timestamp, const cv::Mat& image, const cv::Mat& dep
   if (has_mask && options.mask_extraction) extraction_mask = dynamic_mask == 0;
   extractor.Extract(ToGray(image, options.image_is_rgb), extraction_mask, &features->keypoints, &features->descriptors);
 
+  if (options.pyramid_centre_correction) CorrectPyramidOffsets(extractor.scale_factors(), &features->keypoints);
   const int n = features->size();
   std::vector<cv::Point2f> raw(n);
   std::vector<int> levels(n);

@@ -21,6 +21,7 @@ namespace esdslam {
 struct FrameOptions {
   bool mask_extraction = false;  // pass the complement of the dynamic mask to the extractor
   bool image_is_rgb = false;     // colour channel order of the input (false: OpenCV BGR)
+  bool pyramid_centre_correction = true;  // see CorrectPyramidOffsets in frame.cpp
 };
 
 // The shared constants of a run: camera, bf, close-depth threshold (th_depth * bf / fx metres,

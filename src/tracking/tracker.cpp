@@ -8,6 +8,7 @@
 #include "map/keyframe.h"
 #include "map/map_point.h"
 #include "tracking/frame_matcher.h"
+#include "tracking/relocalizer.h"
 
 namespace esdslam {
 
@@ -49,7 +50,9 @@ TrackingResult Tracker::Track(Frame* frame) {
         if (velocity_valid_) tracked = TrackWithMotionModel(frame);
         if (!tracked) tracked = TrackReferenceKeyFrame(frame);
       } else {
-        tracked = TrackReferenceKeyFrame(frame);  // LOST: retry against the last local map
+        // LOST: global BoW relocalization, else retry against the last local map.
+        if (relocalizer_ != nullptr) tracked = Relocalize(frame);
+        if (!tracked) tracked = TrackReferenceKeyFrame(frame);
       }
       frame->reference_keyframe = reference_keyframe_;
       if (tracked) tracked = TrackLocalMap(frame);
@@ -148,13 +151,28 @@ bool Tracker::TrackWithMotionModel(Frame* frame) {
   return DiscardOutliers(frame) >= options_.min_pose_matches;
 }
 
+// Matches the frame against the reference keyframe (when LOST: the best of the reference, its
+// best covisible keyframes and the last keyframe), starting from the last known pose.
 bool Tracker::TrackReferenceKeyFrame(Frame* frame) {
   if (reference_keyframe_ == nullptr) return false;
   Rigid3 unused;
-  if (reference_keyframe_->is_bad()) reference_keyframe_ = LiveAncestor(last_keyframe_, &unused);
-  std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);
-  const int matches = SearchKeyFrameBruteForce(*reference_keyframe_, frame);
-  if (matches < 15) return false;
+  if (reference_keyframe_->is_bad()) reference_keyframe_ = LiveAncestor(reference_keyframe_, &unused);
+  std::vector<KeyFrame*> candidates{reference_keyframe_};
+  if (state_ == TrackingState::kLost) {
+    for (KeyFrame* covisible : reference_keyframe_->BestCovisibleKeyframes(4)) candidates.push_back(covisible);
+    KeyFrame* last = LiveAncestor(last_keyframe_, &unused);
+    if (std::find(candidates.begin(), candidates.end(), last) == candidates.end()) candidates.push_back(last);
+  }
+  int best_matches = -1;
+  std::vector<MapPoint*> best_associations;
+  for (KeyFrame* candidate : candidates) {
+    std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);
+    const int matches = SearchKeyFrameBruteForce(*candidate, frame);
+    if (matches > best_matches) best_matches = matches, best_associations = frame->map_points;
+  }
+  frame->map_points = best_associations;
+  std::fill(frame->outlier.begin(), frame->outlier.end(), false);
+  if (best_matches < 15) return false;
   frame->cam_from_world = has_last_good_pose_ ? last_good_cam_from_world_ : reference_keyframe_->cam_from_world();
   OptimizePose(frame);
   return DiscardOutliers(frame) >= options_.min_pose_matches;

@@ -20,6 +20,8 @@
 
 namespace esdslam {
 
+class Relocalizer;  // tracking/relocalizer.h
+
 enum class TrackingState { kNotInitialized, kOk, kLost };
 const char* ToString(TrackingState state);
 
@@ -58,6 +60,11 @@ class Tracker {
   TrackingResult Track(Frame* frame);
 
   TrackingState state() const { return state_; }
+  // Global BoW relocalization tried while LOST when the reference-keyframe retry fails (null = off;
+  // not owned). Tracking resumes in the same map.
+  void set_relocalizer(Relocalizer* relocalizer) { relocalizer_ = relocalizer; }
+  // Frames relocalized by the relocalizer so far.
+  int relocalizations() const { return relocalizations_; }
   const Frame& last_frame() const { return last_frame_; }
   const std::vector<KeyFrame*>& local_keyframes() const { return local_keyframes_; }
   const std::vector<MapPoint*>& local_points() const { return local_points_; }
@@ -67,6 +74,7 @@ class Tracker {
   bool Initialize(Frame* frame);
   bool TrackWithMotionModel(Frame* frame);
   bool TrackReferenceKeyFrame(Frame* frame);
+  bool Relocalize(Frame* frame);  // tracker_relocalization.cpp
   void UpdateLastFrame();
   void ReplaceMovedPointsInLastFrame();
   int OptimizePose(Frame* frame);
@@ -99,6 +107,8 @@ class Tracker {
   std::vector<KeyFrame*> local_keyframes_;
   std::vector<MapPoint*> local_points_;
   std::vector<std::unique_ptr<MapPoint>> temporary_points_;  // depth points of the last frame
+  Relocalizer* relocalizer_ = nullptr;
+  int relocalizations_ = 0;
 };
 
 }  // namespace esdslam

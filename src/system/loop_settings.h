@@ -1,0 +1,37 @@
+#pragma once
+// Place recognition / relocalization options of a run and their settings keys. Keys (all
+// optional):
+//   Loop.vocabulary: BoW vocabulary file (default models/vocabulary/orb_vocabulary.bin; resolved
+//       like model files: as given, next to the settings file, the executable, the source tree)
+//   Loop.relocalization: 1/0, BoW relocalization when tracking is LOST (default 1)
+//   Loop.directIndexLevel: depth of the direct-index nodes (default 2)
+//   Loop.relocMinInliers: inliers needed to accept a relocalization (default 50)
+//   Loop.relocMaxCandidates: BoW candidates tried per lost frame (default 20)
+//   Loop.relocRatio: descriptor ratio test of the BoW matching (default 0.75)
+
+#include <memory>
+#include <string>
+
+#include "io/settings_table.h"
+#include "loop/place_recognition.h"
+#include "loop/vocabulary.h"
+#include "tracking/relocalizer.h"
+
+namespace esdslam {
+
+inline constexpr const char* kDefaultVocabulary = "models/vocabulary/orb_vocabulary.bin";
+
+struct LoopOptions {
+  bool relocalization = true;
+  std::string vocabulary = kDefaultVocabulary;  // resolved when the system loads it
+  PlaceRecognitionOptions places;
+  RelocalizerOptions relocalizer;
+  void Check() const;
+};
+
+void BindLoopSettings(LoopOptions& options, SettingsTable& table);
+
+// Loads the vocabulary (path resolved as described above). Throws InputError when missing/corrupt.
+std::shared_ptr<const Vocabulary> LoadVocabulary(const std::string& path, const std::string& settings_dir = "");
+
+}  // namespace esdslam

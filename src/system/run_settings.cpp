@@ -1,0 +1,165 @@
+#include "system/run_settings.h"
+
+#include <filesystem>
+#include <regex>
+#include <sstream>
+
+#include <spdlog/spdlog.h>
+
+#include "common/error.h"
+#include "dense/dense_settings.h"
+#include "io/settings_table.h"
+
+namespace esdslam {
+namespace {
+
+std::vector<std::string> SplitNames(const std::string& text) {
+  std::vector<std::string> names;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    const auto b = item.find_first_not_of(" \t");
+    const auto e = item.find_last_not_of(" \t");
+    if (b != std::string::npos) names.push_back(item.substr(b, e - b + 1));
+  }
+  return names;
+}
+
+std::string JoinNames(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "" : ",") + name;
+  return text;
+}
+
+void BindGrowing(const std::string& prefix, RegionGrowingOptions& o, SettingsTable& table) {
+  table.Add(prefix + "absTolerance", &o.abs_tolerance_m);
+  table.Add(prefix + "depthSqTolerance", &o.depth_sq_tolerance);
+  table.Add(prefix + "maxDepthFromSeed", &o.max_depth_from_seed_m);
+  table.Add(prefix + "seedSplitGap", &o.seed_split_gap_m);
+  table.Add(prefix + "minSeedFraction", &o.min_seed_fraction);
+  table.Add(prefix + "maxOutsideFraction", &o.max_outside_fraction);
+  table.Add(prefix + "seedErosion", &o.seed_erosion_px);
+  table.Add(prefix + "seedCoreFraction", &o.seed_core_fraction);
+  table.Add(prefix + "connectivity", &o.connectivity);
+  table.Add(prefix + "growthBand", &o.growth_band_px);
+  table.Add(prefix + "noDepthDilation", &o.no_depth_dilation_px);
+  table.Add(prefix + "minComponent", &o.min_component_px);
+}
+
+SettingsTable MakeTable(RunSettings& run, SemanticKeys& semantic) {
+  SettingsTable table;
+  BindCoreSettings(run.core, table);
+  BindSemanticSettings(semantic, table);
+  BindDynamicSettings(run.region_growing, run.geometry, table);
+  BindDenseSettings(run.dense, table);
+  return table;
+}
+
+}  // namespace
+
+void RunSettings::Check() const {
+  core.Check();
+  region_growing.Check();
+  geometry.Check();
+  dense.Check();
+  semantic.groups.Check(semantic.onnx.class_names);
+}
+
+SemanticKeys SemanticKeys::From(const SemanticSettings& s) {
+  SemanticKeys k;
+  k.segmenter = s.kind == SemanticSettings::Kind::kFolder ? "folder" : "onnx";
+  k.model = s.onnx.model_path;
+  k.input_width = s.onnx.input_width, k.input_height = s.onnx.input_height;
+  k.threads = s.onnx.threads;
+  k.upsample_scores = s.onnx.upsample_scores;
+  k.dynamic_classes = JoinNames(s.groups.dynamic_classes);
+  k.potentially_dynamic_classes = JoinNames(s.groups.potentially_dynamic_classes);
+  k.mask_folder = s.folder.folder;
+  k.mask_tolerance_s = s.folder.tolerance_s;
+  k.allow_missing_masks = s.folder.allow_missing;
+  k.realtime = s.mode == SegmentationMode::kNewestWins;
+  return k;
+}
+
+SemanticSettings SemanticKeys::ToSemanticSettings(const std::string& settings_dir) const {
+  SemanticSettings s;
+  if (segmenter == "folder") s.kind = SemanticSettings::Kind::kFolder;
+  else if (segmenter != "onnx") throw Error("Semantic.segmenter must be onnx or folder, got '" + segmenter + "'");
+  SetModel(s, model, settings_dir);  // also the input size from a _<W>x<H>.onnx name
+  if (input_width > 0) s.onnx.input_width = input_width;
+  if (input_height > 0) s.onnx.input_height = input_height;
+  s.onnx.threads = threads;
+  s.onnx.upsample_scores = upsample_scores;
+  s.groups.dynamic_classes = SplitNames(dynamic_classes);
+  s.groups.potentially_dynamic_classes = SplitNames(potentially_dynamic_classes);
+  s.folder.folder = mask_folder;
+  if (!mask_folder.empty() && std::filesystem::path(mask_folder).is_relative() && !settings_dir.empty() &&
+      !std::filesystem::exists(mask_folder))
+    s.folder.folder = (std::filesystem::path(settings_dir) / mask_folder).string();
+  s.folder.tolerance_s = mask_tolerance_s;
+  s.folder.allow_missing = allow_missing_masks;
+  s.mode = realtime ? SegmentationMode::kNewestWins : SegmentationMode::kEveryFrame;
+  return s;
+}
+
+void BindSemanticSettings(SemanticKeys& k, SettingsTable& table) {
+  table.Add("Semantic.segmenter", &k.segmenter);
+  table.Add("Semantic.model", &k.model);
+  table.Add("Semantic.inputWidth", &k.input_width);
+  table.Add("Semantic.inputHeight", &k.input_height);
+  table.Add("Semantic.threads", &k.threads);
+  table.Add("Semantic.upsampleScores", &k.upsample_scores);
+  table.Add("Semantic.dynamicClasses", &k.dynamic_classes);
+  table.Add("Semantic.potentiallyDynamicClasses", &k.potentially_dynamic_classes);
+  table.Add("Semantic.maskFolder", &k.mask_folder);
+  table.Add("Semantic.maskTolerance", &k.mask_tolerance_s);
+  table.Add("Semantic.allowMissingMasks", &k.allow_missing_masks);
+  table.Add("Semantic.realtime", &k.realtime);
+}
+
+void BindDynamicSettings(RegionGrowingOptions& growing, GeometryCheckOptions& g, SettingsTable& table) {
+  BindGrowing("Dynamic.grow.", growing, table);
+  table.Add("Dynamic.check.maxParallax", &g.max_parallax_deg);
+  table.Add("Dynamic.check.absThreshold", &g.abs_threshold_m);
+  table.Add("Dynamic.check.depthSqThreshold", &g.depth_sq_threshold);
+  table.Add("Dynamic.check.minDepth", &g.min_depth_m);
+  table.Add("Dynamic.check.maxDepth", &g.max_depth_m);
+  table.Add("Dynamic.check.windowRadius", &g.window_radius_px);
+  table.Add("Dynamic.check.clusterRadius", &g.cluster_radius_px);
+  table.Add("Dynamic.check.minClusterPoints", &g.min_cluster_points);
+  table.Add("Dynamic.check.maskRadius", &g.mask_radius_px);
+  BindGrowing("Dynamic.check.grow.", g.growing, table);
+}
+
+RunSettings LoadRunSettings(const std::string& path, std::vector<std::string>* warnings) {
+  RunSettings run;
+  SemanticKeys semantic = SemanticKeys::From(run.semantic);
+  semantic.model = kDefaultSegmentationModel;
+  semantic.input_width = semantic.input_height = 0;
+  const SettingsTable table = MakeTable(run, semantic);
+  std::vector<std::string> load_warnings = table.Load(path);
+  if (warnings) warnings->insert(warnings->end(), load_warnings.begin(), load_warnings.end());
+  try {
+    run.semantic = semantic.ToSemanticSettings(std::filesystem::path(path).parent_path().string());
+    run.Check();
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {
+    throw InputError(path, 0, e.what());
+  }
+  return run;
+}
+
+std::string RunSettingsYaml(const RunSettings& settings) {
+  RunSettings copy = settings;
+  SemanticKeys semantic = SemanticKeys::From(settings.semantic);
+  return MakeTable(copy, semantic).ToYaml();
+}
+
+void SaveRunSettings(const RunSettings& settings, const std::string& path) {
+  RunSettings copy = settings;
+  SemanticKeys semantic = SemanticKeys::From(settings.semantic);
+  MakeTable(copy, semantic).Save(path);
+}
+
+}  // namespace esdslam

@@ -1,0 +1,72 @@
+#pragma once
+// All settings of one run in ONE key table: the core (ORB-SLAM2 keys), Semantic.*, Dynamic.*
+// (region growing and multi-view geometry check) and Dense.*. Keys bound by no stage are warned
+// about once; SaveRunSettings writes every bound key (settings_used.yaml).
+//
+// Semantic.* keys (all optional):
+//   Semantic.segmenter: onnx | folder                 Semantic.model: .onnx path (resolved)
+//   Semantic.inputWidth/inputHeight: 0 = from a model name ending in _<W>x<H>.onnx
+//   Semantic.threads, Semantic.upsampleScores (1/0)
+//   Semantic.dynamicClasses, Semantic.potentiallyDynamicClasses: a YAML list or "a,b" text
+//   Semantic.maskFolder, Semantic.maskTolerance (s), Semantic.allowMissingMasks (folder segmenter)
+//   Semantic.realtime: 1 = newest-wins segmentation thread, 0 = every frame
+// Dynamic.* keys: Dynamic.grow.* (RegionGrowingOptions) and Dynamic.check.* (GeometryCheckOptions,
+// its own region growing under Dynamic.check.grow.*), see BindDynamicSettings in run_settings.cpp.
+
+#include <string>
+#include <vector>
+
+#include "dense/dense_options.h"
+#include "dynamic/geometry_check.h"
+#include "dynamic/region_growing.h"
+#include "io/settings.h"
+#include "semantic/semantic_settings.h"
+
+namespace esdslam {
+
+class SettingsTable;
+
+struct RunSettings {
+  Settings core;
+  SemanticSettings semantic;
+  RegionGrowingOptions region_growing;
+  GeometryCheckOptions geometry;
+  DenseOptions dense;
+
+  void Check() const;  // throws Error
+};
+
+// The Semantic.* keys as written in the file; converted to SemanticSettings after loading
+// (model path resolution, input size from the model name, class lists).
+struct SemanticKeys {
+  std::string segmenter = "onnx";
+  std::string model = kDefaultSegmentationModel;
+  int input_width = 0, input_height = 0;  // 0 = from the model name (else 384x288)
+  int threads = 0;
+  bool upsample_scores = true;
+  std::string dynamic_classes = "person";
+  std::string potentially_dynamic_classes = "bicycle,bird,bottle,car,cat,chair,cow,dog,horse,motorbike,sheep";
+  std::string mask_folder;
+  double mask_tolerance_s = 0.02;
+  bool allow_missing_masks = false;
+  bool realtime = false;
+
+  // The keys of `settings` (inverse of ToSemanticSettings, for saving).
+  static SemanticKeys From(const SemanticSettings& settings);
+  // settings_dir: folder of the settings file (for relative model paths). Throws Error.
+  SemanticSettings ToSemanticSettings(const std::string& settings_dir) const;
+};
+
+void BindSemanticSettings(SemanticKeys& keys, SettingsTable& table);
+void BindDynamicSettings(RegionGrowingOptions& growing, GeometryCheckOptions& geometry, SettingsTable& table);
+
+// Loads, converts and checks. Unknown keys are warned about once (and appended to `warnings`).
+// Throws InputError for file/syntax/type errors and failed checks.
+RunSettings LoadRunSettings(const std::string& path, std::vector<std::string>* warnings = nullptr);
+
+// Writes every key of every stage (loadable by LoadRunSettings; core keys by ORB-SLAM2).
+void SaveRunSettings(const RunSettings& settings, const std::string& path);
+// The same as 'key: value' lines (for logging the effective settings).
+std::string RunSettingsYaml(const RunSettings& settings);
+
+}  // namespace esdslam
