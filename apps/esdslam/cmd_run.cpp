@@ -36,6 +36,10 @@ struct RunArgs {
   bool realtime = false;
   bool dense = false;
   std::string debug_frames_dir;
+  bool no_relocalization = false;
+  std::string save_map;
+  std::string load_map;
+  bool localization = false;
 };
 
 struct FrameTiming {
@@ -160,6 +164,10 @@ int Run(const RunArgs& args) {
   SlamOptions options;
   options.single_thread = args.single_thread;
   options.seed = args.seed;
+  if (args.no_relocalization) run_settings.loop.relocalization = false;
+  options.loop = run_settings.loop;
+  options.load_map = args.load_map;
+  options.tracker.localization_only = args.localization;
   DynamicRunOptions run_options;
   run_options.mode = ParseDynamicMode(args.mode);
   run_options.realtime = args.realtime || run_settings.semantic.mode == SegmentationMode::kNewestWins;
@@ -194,6 +202,7 @@ int Run(const RunArgs& args) {
   }
   WriteResults(args, run, run_settings, timings);
   PrintSummary(timings, static_cast<int>(n), system);
+  if (!args.save_map.empty()) system.SaveMap(args.save_map);
   return 0;
 }
 
@@ -208,6 +217,15 @@ RunFn Setup(CLI::App& app) {
   app.add_flag("--single-thread", args->single_thread,
                "Run local mapping on the tracking thread (deterministic, repeatable)");
   app.add_option("--seed", args->seed, "Seed for random choices")->capture_default_str();
+  app.add_flag("--no-relocalization", args->no_relocalization,
+               "Disable BoW relocalization when tracking is LOST (same as Loop.relocalization: 0)");
+  app.add_option("--save-map", args->save_map, "Write the final map (keyframes, points) to this binary file");
+  auto* load_map = app.add_option("--load-map", args->load_map, "Start from a map saved with --save-map")
+                       ->check(CLI::ExistingFile);
+  app.add_flag("--localization", args->localization,
+               "Localization only: track in the loaded map by relocalization and local-map tracking, "
+               "never add keyframes")
+      ->needs(load_map);
   app.add_option("--mode", args->mode,
                  "Dynamic-object handling: none (plain ORB-SLAM2 RGB-D) | semantic (segmentation + depth region "
                  "growing masks)")

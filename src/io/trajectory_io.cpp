@@ -56,8 +56,9 @@ void WriteTumTrajectory(const std::string& path, const std::vector<StampedPose>&
   for (const StampedPose& pose : poses) {
     const Vec3& t = pose.world_from_cam.translation();
     const Quat& q = pose.world_from_cam.rotation();
-    std::fprintf(file, "%.6f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", pose.timestamp, t.x(), t.y(), t.z(), q.x(),
-                 q.y(), q.z(), q.w());
+    // "+ 0.0" turns -0 into 0 so files do not show "-0".
+    std::fprintf(file, "%.6f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", pose.timestamp, t.x() + 0.0, t.y() + 0.0, t.z() + 0.0,
+                 q.x() + 0.0, q.y() + 0.0, q.z() + 0.0, q.w() + 0.0);
   }
   const bool failed = std::ferror(file) != 0;
   if (std::fclose(file) != 0 || failed) throw Error("error while writing trajectory file " + path);

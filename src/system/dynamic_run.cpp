@@ -28,9 +28,9 @@ DynamicRun::DynamicRun(const RunSettings& settings, const SlamOptions& slam_opti
   if (options_.mode != DynamicMode::kNone) {
     if (options_.realtime) settings_.semantic.mode = SegmentationMode::kNewestWins;
     semantic_ = std::make_unique<SemanticFrontEnd>(settings_.semantic, settings_.region_growing,
-                                                   PinholeCamera(settings_.core.camera));
+                                                   PinholeCamera(settings_.core.camera), settings_.mask_dilation_px);
     // Every-frame mode knows the mask before extraction; real time knows a carried mask.
-    slam.frame.mask_extraction = true;
+    slam.frame.mask_extraction = options_.mask_extraction;
   }
   system_ = std::make_unique<SlamSystem>(settings_.core, slam);
   if (options_.dense)

@@ -32,6 +32,9 @@ struct DynamicRunOptions {
   bool dense = false;            // dense map of the keyframes, written by Finish
   std::string debug_frames_dir;  // per-frame PNG with kept/removed keypoints; empty = off
   bool threaded_dense = true;
+  // Give the extractor the static area only (its budget is not spent on movers). Off: keypoints
+  // are extracted everywhere and the ones on the mask are flagged dynamic (tests measure that).
+  bool mask_extraction = true;
 };
 
 struct FrameStep {

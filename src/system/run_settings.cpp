@@ -50,8 +50,9 @@ SettingsTable MakeTable(RunSettings& run, SemanticKeys& semantic) {
   SettingsTable table;
   BindCoreSettings(run.core, table);
   BindSemanticSettings(semantic, table);
-  BindDynamicSettings(run.region_growing, run.geometry, table);
+  BindDynamicSettings(run, table);
   BindDenseSettings(run.dense, table);
+  BindLoopSettings(run.loop, table);
   return table;
 }
 
@@ -59,9 +60,11 @@ SettingsTable MakeTable(RunSettings& run, SemanticKeys& semantic) {
 
 void RunSettings::Check() const {
   core.Check();
+  if (mask_dilation_px < 0) throw Error("Dynamic.maskDilation must be >= 0");
   region_growing.Check();
   geometry.Check();
   dense.Check();
+  loop.Check();
   semantic.groups.Check(semantic.onnx.class_names);
 }
 
@@ -117,8 +120,10 @@ void BindSemanticSettings(SemanticKeys& k, SettingsTable& table) {
   table.Add("Semantic.realtime", &k.realtime);
 }
 
-void BindDynamicSettings(RegionGrowingOptions& growing, GeometryCheckOptions& g, SettingsTable& table) {
-  BindGrowing("Dynamic.grow.", growing, table);
+void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
+  table.Add("Dynamic.maskDilation", &run.mask_dilation_px);
+  BindGrowing("Dynamic.grow.", run.region_growing, table);
+  GeometryCheckOptions& g = run.geometry;
   table.Add("Dynamic.check.maxParallax", &g.max_parallax_deg);
   table.Add("Dynamic.check.absThreshold", &g.abs_threshold_m);
   table.Add("Dynamic.check.depthSqThreshold", &g.depth_sq_threshold);
@@ -141,6 +146,7 @@ RunSettings LoadRunSettings(const std::string& path, std::vector<std::string>* w
   if (warnings) warnings->insert(warnings->end(), load_warnings.begin(), load_warnings.end());
   try {
     run.semantic = semantic.ToSemanticSettings(std::filesystem::path(path).parent_path().string());
+    run.loop.vocabulary = ResolveModelPath(run.loop.vocabulary, std::filesystem::path(path).parent_path().string());
     run.Check();
   } catch (const InputError&) {
     throw;

@@ -21,6 +21,7 @@
 #include "dynamic/region_growing.h"
 #include "io/settings.h"
 #include "semantic/semantic_settings.h"
+#include "system/loop_settings.h"
 
 namespace esdslam {
 
@@ -32,6 +33,8 @@ struct RunSettings {
   RegionGrowingOptions region_growing;
   GeometryCheckOptions geometry;
   DenseOptions dense;
+  int mask_dilation_px = 10;  // Dynamic.maskDilation: final dynamic mask grown by this (px) for tracking
+  LoopOptions loop;  // Loop.* keys (system/loop_settings.h); vocabulary path resolved on load
 
   void Check() const;  // throws Error
 };
@@ -58,7 +61,7 @@ struct SemanticKeys {
 };
 
 void BindSemanticSettings(SemanticKeys& keys, SettingsTable& table);
-void BindDynamicSettings(RegionGrowingOptions& growing, GeometryCheckOptions& geometry, SettingsTable& table);
+void BindDynamicSettings(RunSettings& run, SettingsTable& table);
 
 // Loads, converts and checks. Unknown keys are warned about once (and appended to `warnings`).
 // Throws InputError for file/syntax/type errors and failed checks.

@@ -20,6 +20,17 @@ cv::Mat Dilate(const cv::Mat& mask, int radius_px) {
   return out;
 }
 
+// Region growing decides the boundary band; the network's interior (mask eroded by
+// kCoreErosionPx) stays dynamic even where growth did not reach it (parts split off by an
+// occluder, depth steps inside a person).
+constexpr int kCoreErosionPx = 3;
+cv::Mat KeepMaskCore(cv::Mat refined, const cv::Mat& raw_mask) {
+  cv::Mat core;
+  cv::erode(raw_mask, core, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kCoreErosionPx + 1, 2 * kCoreErosionPx + 1)));
+  refined.setTo(255, core);
+  return refined;
+}
+
 }  // namespace
 
 cv::Mat WarpMask(const cv::Mat& mask, const cv::Mat& depth_a, const Rigid3& b_from_a, const PinholeCamera& camera,
@@ -49,11 +60,12 @@ cv::Mat WarpMask(const cv::Mat& mask, const cv::Mat& depth_a, const Rigid3& b_fr
 }
 
 SemanticFrontEnd::SemanticFrontEnd(const SemanticSettings& settings, const RegionGrowingOptions& growing,
-                                   const PinholeCamera& camera, int warp_dilation_px)
+                                   const PinholeCamera& camera, int mask_dilation_px, int warp_dilation_px)
     : mode_(settings.mode),
       groups_(settings.groups, settings.onnx.class_names),
       growing_(growing),
       camera_(camera),
+      mask_dilation_px_(mask_dilation_px),
       warp_dilation_px_(warp_dilation_px) {
   growing_.Check();
   SegmentationWorkerOptions options;
@@ -88,7 +100,7 @@ DynamicMaskResult SemanticFrontEnd::MaskFor(std::int64_t id, const cv::Mat& dept
     masks.potentially_dynamic = CarryToFrame(masks.potentially_dynamic, done->id, id);
     out.warped = true;
   }
-  out.mask = RefineDynamicMask(masks.dynamic, depth_m, growing_);
+  out.mask = Dilate(KeepMaskCore(RefineDynamicMask(masks.dynamic, depth_m, growing_), masks.dynamic), mask_dilation_px_);
   out.potentially_dynamic = masks.potentially_dynamic;
   out.refine_ms = refine.ElapsedMs();
   out.dynamic_fraction = static_cast<double>(cv::countNonZero(out.mask)) / std::max<int>(1, out.mask.total());

@@ -11,7 +11,8 @@
 //               if that is an older frame, forward-warps its dynamic pixels into the current
 //               frame with the older frame's depth and the relative pose predicted by the
 //               constant-velocity model of the recorded poses, then dilates by warp_dilation_px.
-// Dynamic mask = RefineDynamicMask(dynamic-class mask, current depth).
+// Dynamic mask = RefineDynamicMask(dynamic-class mask, current depth) plus the network mask's
+// interior (eroded by 3 px), dilated by mask_dilation_px (Dynamic.maskDilation).
 
 #include <cstdint>
 #include <deque>
@@ -44,7 +45,7 @@ struct DynamicMaskResult {
 class SemanticFrontEnd {
  public:
   SemanticFrontEnd(const SemanticSettings& settings, const RegionGrowingOptions& growing,
-                   const PinholeCamera& camera, int warp_dilation_px = 5);
+                   const PinholeCamera& camera, int mask_dilation_px = 0, int warp_dilation_px = 5);
   ~SemanticFrontEnd();
 
   // Ids must increase. bgr is shared, not copied: do not write to it afterwards.
@@ -71,6 +72,7 @@ class SemanticFrontEnd {
   ClassGroups groups_;
   RegionGrowingOptions growing_;
   PinholeCamera camera_;
+  int mask_dilation_px_;
   int warp_dilation_px_;
   std::unique_ptr<SegmentationWorker> worker_;
   std::deque<PoseRecord> poses_;  // recent tracked frames, oldest first

@@ -14,6 +14,8 @@ void SlamOptions::Check() const {
   tracker.Check();
   mapping.Check();
   loop.Check();
+  if (tracker.localization_only && load_map.empty()) throw Error("slam: localization mode needs a map to load");
+  if (tracker.localization_only && !loop.relocalization) throw Error("slam: localization mode needs relocalization");
 }
 
 SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
@@ -34,6 +36,11 @@ SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
   }
   tracker_ = std::make_unique<Tracker>(map_.get(), sink, options_.tracker);
   tracker_->set_relocalizer(relocalizer_.get());
+  if (!options_.load_map.empty()) {
+    LoadMap(options_.load_map, rig_, map_.get());
+    if (places_) places_->AddMissing(map_->keyframes());
+    tracker_->StartInExistingMap();
+  }
   mapper_->Start();
   spdlog::info("slam: {} mode, close depth < {:.2f} m, keyframe at least every {} frames",
                options_.single_thread ? "single-thread" : "two-thread", rig_->th_depth_m,
@@ -82,6 +89,13 @@ void SlamSystem::Shutdown() {
   spdlog::debug("local mapping: {} keyframes, {} points created, {} culled, {} keyframes culled, {} BA ({} aborted)",
                 stats.keyframes_processed, stats.points_created, stats.points_culled, stats.keyframes_culled,
                 stats.bundle_adjustments, stats.bundle_adjustments_aborted);
+}
+
+MapFileSummary SlamSystem::SaveMap(const std::string& path) {
+  std::lock_guard<std::mutex> lock(map_->update_mutex());
+  const MapFileSummary summary = esdslam::SaveMap(*map_, path);
+  spdlog::info("slam: saved {} keyframes, {} points to {}", summary.keyframes, summary.map_points, path);
+  return summary;
 }
 
 std::vector<StampedPose> SlamSystem::Trajectory() const {

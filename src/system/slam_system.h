@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -16,6 +17,7 @@
 #include "io/settings.h"
 #include "io/trajectory_io.h"
 #include "map/map.h"
+#include "map/map_serialization.h"
 #include "mapping/local_mapper.h"
 #include "system/loop_settings.h"
 #include "system/place_indexing_sink.h"
@@ -31,6 +33,9 @@ struct SlamOptions {
   LocalMapperOptions mapping;
   FrameOptions frame;
   LoopOptions loop;            // place recognition and relocalization (system/loop_settings.h)
+  // Map file to start from (map/map_serialization.h): tracking starts LOST and relocalizes in it.
+  // With tracker.localization_only no keyframe is added (needs loop.relocalization).
+  std::string load_map;
   void Check() const;
 };
 
@@ -58,6 +63,8 @@ class SlamSystem {
 
   // Finishes local mapping (processes queued keyframes) and joins its thread. Idempotent.
   void Shutdown();
+  // Writes the live keyframes and points (call after Shutdown for the final map). Throws Error.
+  MapFileSummary SaveMap(const std::string& path);
 
   // world_from_cam of every frame that got a pose, in input order.
   std::vector<StampedPose> Trajectory() const;

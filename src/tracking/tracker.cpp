@@ -57,7 +57,7 @@ TrackingResult Tracker::Track(Frame* frame) {
       frame->reference_keyframe = reference_keyframe_;
       if (tracked) tracked = TrackLocalMap(frame);
       state_ = tracked ? TrackingState::kOk : TrackingState::kLost;
-      if (tracked && NeedNewKeyFrame(*frame)) result.new_keyframe = CreateNewKeyFrame(frame);
+      if (tracked && !options_.localization_only && NeedNewKeyFrame(*frame)) result.new_keyframe = CreateNewKeyFrame(frame);
     }
     Finish(frame, tracked);
     result.state = state_;

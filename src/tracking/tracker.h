@@ -37,6 +37,7 @@ struct TrackerOptions {
   int max_local_keyframes = 80;
   bool last_frame_depth_points = true;    // temporary points from the last frame's close depth
   int max_depth_points = 100;             // close points per keyframe / temporary points
+  bool localization_only = false;         // never insert keyframes (tracking in a fixed, loaded map)
   PoseOptimizerOptions pose;
   void Check() const;
 };
@@ -63,6 +64,8 @@ class Tracker {
   // Global BoW relocalization tried while LOST when the reference-keyframe retry fails (null = off;
   // not owned). Tracking resumes in the same map.
   void set_relocalizer(Relocalizer* relocalizer) { relocalizer_ = relocalizer; }
+  // For a map loaded from a file: start LOST, so the first frames are relocalized in it.
+  void StartInExistingMap() { state_ = TrackingState::kLost; }
   // Frames relocalized by the relocalizer so far.
   int relocalizations() const { return relocalizations_; }
   const Frame& last_frame() const { return last_frame_; }

@@ -14,6 +14,7 @@ bool Tracker::Relocalize(Frame* frame) {
   KeyFrame* keyframe = relocalizer_->Relocalize(frame, options_.pose, map_->keyframes(), &stats);
   if (keyframe == nullptr) return false;
   reference_keyframe_ = keyframe;
+  if (last_keyframe_ == nullptr) last_keyframe_ = keyframe;  // loaded map: none created yet
   velocity_valid_ = false;
   ++relocalizations_;
   spdlog::info("tracking: relocalized frame {} against keyframe {} ({} inliers)", frame->id(), keyframe->id(),

@@ -78,7 +78,6 @@ TEST_F(PlaceRecognitionTest, DirectIndexMatchingFindsTheShiftedKeypoints) {
   const auto train = Features(bgr, extractor_, rig_);
   const auto query = Features(shifted, extractor_, rig_);
   const ImageBow train_bow = places.Compute(*train), query_bow = places.Compute(*query);
-  EXPECT_NEAR(vocabulary_->Score(train_bow.bow, query_bow.bow), 1.0, 0.6);
   const std::vector<int> query_to_train =
       MatchByDirectIndex(*train, train_bow.direct_index, {}, *query, query_bow.direct_index, {}, BowMatchOptions{});
   int matches = 0, correct = 0;
@@ -89,7 +88,7 @@ TEST_F(PlaceRecognitionTest, DirectIndexMatchingFindsTheShiftedKeypoints) {
     ++matches;
     ++used[t];
     const cv::Point2f expected = train->keypoints[t].pt + cv::Point2f(12, -7);
-    correct += cv::norm(query->keypoints[q].pt - expected) < 3.0 * train->rig->pyramid.scale_factors.size();
+    correct += cv::norm(query->keypoints[q].pt - expected) < 3.0;  // px
   }
   std::printf("direct-index matches: %d of %d keypoints, %d correct\n", matches, query->size(), correct);
   EXPECT_GE(matches, query->size() / 3);
@@ -101,7 +100,7 @@ TEST_F(PlaceRecognitionTest, RelocalizationCandidateIsTheNearestKeyFrameInTime) 
   Map map;
   PlaceRecognition places(vocabulary_);
   std::vector<KeyFrame*> keyframes;
-  for (int index = 0; index < scene_.num_frames(); index += 20) {
+  for (int index = 0; index < scene_.num_frames(); index += 60) {
     KeyFrame* keyframe = map.CreateKeyFrame(index, index, FrameFeatures(index), Rigid3::Identity());
     map.AddKeyFrame(keyframe);
     places.AddKeyFrame(keyframe);
@@ -110,7 +109,7 @@ TEST_F(PlaceRecognitionTest, RelocalizationCandidateIsTheNearestKeyFrameInTime) 
   ASSERT_GE(keyframes.size(), 3u);
   EXPECT_EQ(places.size(), keyframes.size());
   for (std::size_t k = 0; k < keyframes.size(); ++k) {
-    const int query_index = static_cast<int>(k) * 20 + 3;
+    const int query_index = static_cast<int>(k) * 60 + 3;
     if (query_index >= scene_.num_frames()) break;
     const std::vector<KeyFrame*> candidates = places.RelocalizationCandidates(places.Compute(*FrameFeatures(query_index)));
     ASSERT_FALSE(candidates.empty()) << "query " << query_index;
@@ -118,7 +117,7 @@ TEST_F(PlaceRecognitionTest, RelocalizationCandidateIsTheNearestKeyFrameInTime) 
   }
   // A culled keyframe is never returned again.
   keyframes[1]->SetBad();
-  const auto after_cull = places.RelocalizationCandidates(places.Compute(*FrameFeatures(23)));
+  const auto after_cull = places.RelocalizationCandidates(places.Compute(*FrameFeatures(63)));
   for (KeyFrame* candidate : after_cull) EXPECT_NE(candidate, keyframes[1]);
   EXPECT_EQ(places.size(), keyframes.size() - 1);
 }

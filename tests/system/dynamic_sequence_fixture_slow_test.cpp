@@ -1,0 +1,29 @@
+// Test data only (no tests): see dynamic_sequence.h.
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "synth/sequence_writer.h"
+#include "system/dynamic_sequence.h"
+
+namespace esdslam::testing {
+
+const std::string& DynamicTestSequence(int frames) {
+  static std::map<int, std::string> dirs;
+  auto it = dirs.find(frames);
+  if (it != dirs.end()) return it->second;
+  SynthOptions options = SynthPreset("dynamic");
+  options.num_frames = frames;
+  options.supersampling = 1;
+  const SyntheticScene scene(options);
+  const std::string out =
+      (std::filesystem::temp_directory_path() / ("esdslam_dynamic_run_test_" + std::to_string(frames))).string();
+  std::filesystem::remove_all(out);
+  WriteSynthSequence(scene, out);
+  std::ofstream(out + "/run.yaml") << SynthSettingsYaml(options) << "\nSemantic.segmenter: folder\n"
+                                   << "Semantic.maskFolder: " << out << "/labels\n"
+                                   << "Dynamic.maskDilation: 0\n";  // measure the refined mask itself
+  return dirs.emplace(frames, out).first->second;
+}
+
+}  // namespace esdslam::testing
