@@ -2,6 +2,7 @@
 # Second README command: the whole test suite.
 #  1. Release build: unit tests and the slow golden runs on ../shared data (label "slow").
 #  2. AddressSanitizer + UndefinedBehaviorSanitizer build: the unit suite (label "unit").
+#  3. ThreadSanitizer build: the tests that run the project's threads (tools/tsan.sh).
 # Set ESDSLAM_TEST_QUICK=1 to run only the Release unit suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,3 +15,4 @@ ctest --test-dir build --output-on-failure -j "$(nproc)"
 tools/build.sh asan
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan -L unit --output-on-failure -j "$(nproc)"
+tools/tsan.sh
