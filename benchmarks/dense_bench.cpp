@@ -1,0 +1,101 @@
+// Cost of the static dense map on the dev sequences: time per keyframe on the dense thread
+// (back-projection, re-indexing, integration), time of the final build (global cloud with
+// outlier removal, OctoMap ray casting), and memory: the map's own structures (counted bytes)
+// and the process's peak RSS. Keyframes are the sequence's frames at the ground-truth poses,
+// every `step`-th frame (arg), without dynamic masks (people are mapped: an upper bound on the
+// map size). The same room seen by 10x more keyframes must not need 10x the memory.
+//
+//   build/benchmarks/dense_bench                                   # all cases, one process
+//   build/benchmarks/dense_bench --benchmark_filter='Bonn/1$'      # one case: its own peak RSS
+#include <sys/resource.h>
+
+#include <filesystem>
+
+#include <benchmark/benchmark.h>
+
+#include "common/timer.h"
+#include "dense/dense_mapper.h"
+#include "io/associate.h"
+#include "io/trajectory_io.h"
+#include "io/tum_sequence.h"
+#include "system/run_settings.h"
+
+namespace esdslam {
+namespace {
+
+double PeakRssMb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;  // Linux: kilobytes
+}
+
+struct Sequence {
+  std::string dir;
+  RunSettings settings;
+  std::vector<FrameEntry> frames;  // frames with a ground-truth pose
+  std::vector<Rigid3> world_from_cam;
+};
+
+Sequence OpenSequence(const std::string& name, const std::string& config) {
+  Sequence seq;
+  seq.dir = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/" + name;
+  seq.settings = LoadRunSettings(std::string(ESDSLAM_SOURCE_DIR) + "/config/" + config);
+  const TumSequence sequence = TumSequence::Open(seq.dir);
+  const std::vector<StampedPose> truth = ReadTumTrajectory(seq.dir + "/groundtruth.txt");
+  std::vector<double> frame_times, truth_times;
+  for (const FrameEntry& f : sequence.frames()) frame_times.push_back(f.timestamp);
+  for (const StampedPose& p : truth) truth_times.push_back(p.timestamp);
+  for (const TimestampMatch& m : AssociateTimestamps(frame_times, truth_times, 0.02)) {
+    seq.frames.push_back(sequence.frames()[m.first]);
+    seq.world_from_cam.push_back(truth[m.second].world_from_cam);
+  }
+  return seq;
+}
+
+void MapSequence(benchmark::State& state, const std::string& name, const std::string& config) {
+  if (!std::filesystem::exists(std::string(ESDSLAM_TEST_DATA_DIR) + "/data/" + name)) {
+    state.SkipWithError((name + " not found").c_str());
+    return;
+  }
+  const Sequence seq = OpenSequence(name, config);
+  const auto step = static_cast<std::size_t>(state.range(0));
+  const std::string out = (std::filesystem::temp_directory_path() / ("esdslam_dense_bench_" + name)).string();
+  DenseMapperStats stats;
+  DenseOutputSummary summary;
+  for (auto _ : state) {
+    DenseMapperOptions mapper;
+    mapper.threaded = false;  // time each keyframe alone; image loading is excluded below
+    DenseMapper dense(PinholeCamera(seq.settings.core.camera), seq.settings.dense, {}, mapper);
+    for (std::size_t i = 0; i < seq.frames.size(); i += step) {
+      state.PauseTiming();
+      const RgbdImages images = LoadRgbd(seq.frames[i], seq.settings.core.depth_map_factor);
+      state.ResumeTiming();
+      dense.AddKeyframe({static_cast<long>(i), seq.frames[i].timestamp, seq.world_from_cam[i], images.bgr, images.depth_m, cv::Mat()});
+    }
+    DenseOutputFiles files;
+    files.pictures = false;
+    summary = dense.WriteOutputs(out, files);
+    stats = dense.stats();
+  }
+  state.counters["keyframes"] = static_cast<double>(stats.keyframes);
+  state.counters["keyframe_ms"] = stats.mean_keyframe_ms;
+  state.counters["keyframe_max_ms"] = stats.max_keyframe_ms;
+  state.counters["final_cloud_ms"] = summary.cloud_ms;
+  state.counters["final_octomap_ms"] = summary.octomap_ms;
+  state.counters["stored_points"] = static_cast<double>(stats.map.points);
+  state.counters["output_points"] = static_cast<double>(summary.points);
+  state.counters["map_MB"] = stats.map.point_bytes / 1e6;
+  state.counters["rays_MB"] = stats.map.ray_bytes / 1e6;
+  state.counters["peak_rss_MB"] = PeakRssMb();
+}
+
+void BM_DenseMap_Bonn(benchmark::State& state) { MapSequence(state, "bonn_crowd_dev", "bonn.yaml"); }
+BENCHMARK(BM_DenseMap_Bonn)->Arg(10)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+
+void BM_DenseMap_TumRpy(benchmark::State& state) { MapSequence(state, "tum_fr1_rpy_dev", "tum_fr1.yaml"); }
+BENCHMARK(BM_DenseMap_TumRpy)->Arg(10)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace esdslam
+
+BENCHMARK_MAIN();
