@@ -55,6 +55,7 @@ DenseMapperStats DenseMapper::stats() const {
     stats.keyframes = processed_;
     stats.mean_keyframe_ms = processed_ > 0 ? total_ms_ / processed_ : 0.0;
     stats.max_keyframe_ms = max_ms_;
+    stats.mean_pose_ms = processed_ > 0 ? pose_ms_ / processed_ : 0.0;
     stats.mean_handoff_ms = handoffs_ > 0 ? handoff_total_ms_ / handoffs_ : 0.0;
     stats.max_handoff_ms = handoff_max_ms_;
   }
@@ -64,7 +65,9 @@ DenseMapperStats DenseMapper::stats() const {
 
 void DenseMapper::Process(const DenseKeyframe& keyframe) {
   const Stopwatch watch;
-  map_.Integrate(keyframe, poses_ ? poses_() : KeyframePoses{});
+  const KeyframePoses poses = poses_ ? poses_() : KeyframePoses{};
+  const double pose_ms = watch.ElapsedMs();
+  map_.Integrate(keyframe, poses);
   const double ms = watch.ElapsedMs();
   if (!mapper_options_.mask_dir.empty()) {
     const std::string path = fmt::format("{}/{:.6f}.png", mapper_options_.mask_dir, keyframe.timestamp);
@@ -73,6 +76,7 @@ void DenseMapper::Process(const DenseKeyframe& keyframe) {
   }
   std::lock_guard<std::mutex> lock(stats_mutex_);
   total_ms_ += ms;
+  pose_ms_ += pose_ms;
   max_ms_ = std::max(max_ms_, ms);
   ++processed_;
 }

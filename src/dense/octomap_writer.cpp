@@ -1,28 +1,55 @@
 #include "dense/octomap_writer.h"
 
+#include <algorithm>
+
 #include <octomap/OcTree.h>
 
 #include "common/error.h"
 
 namespace esdslam {
 
-OctomapStats WriteOctomap(const std::string& path, const DenseMap& map, const KeyframePoses& poses) {
+namespace {
+
+octomap::point3d ToOcto(const Eigen::Vector3f& p) { return octomap::point3d(p.x(), p.y(), p.z()); }
+
+// One keyframe's rays as one OctoMap scan update (each cell updated once per keyframe, occupied
+// winning over free, as OcTree::insertPointCloud does). Free space is carved up to `margin` before
+// each reading (one cell or two sigma of its depth noise, whichever is larger): without it, rays
+// grazing a surface from later keyframes carve away the cells that earlier readings of that
+// surface marked occupied. Returns the number of rays.
+std::size_t InsertKeyframeRays(octomap::OcTree* tree, const DenseMap& map, const PosedRays& posed) {
   const DenseOptions& options = map.options();
-  octomap::OcTree tree(options.octomap_resolution);
-  OctomapStats stats;
-  for (const PosedRays& posed : map.RaysAt(poses)) {
-    const Eigen::Matrix3f rotation = posed.world_from_cam.rotation_matrix().cast<float>();
-    const Eigen::Vector3f origin = posed.world_from_cam.translation().cast<float>();
-    octomap::Pointcloud scan;
-    for (const Eigen::Vector3f& endpoint_cam : map.RayEndpoints(posed.rays)) {
-      const Eigen::Vector3f p = rotation * endpoint_cam + origin;
-      scan.push_back(p.x(), p.y(), p.z());
-    }
-    stats.rays += scan.size();
-    // discretize: one ray per distinct end cell, as in OctoMap's own tools.
-    tree.insertPointCloud(scan, octomap::point3d(origin.x(), origin.y(), origin.z()), options.octomap_max_range,
-                          /*lazy_eval=*/false, /*discretize=*/true);
+  const float resolution = static_cast<float>(options.octomap_resolution);
+  const float max_range = static_cast<float>(options.octomap_max_range);
+  const Eigen::Matrix3f rotation = posed.world_from_cam.rotation_matrix().cast<float>();
+  const Eigen::Vector3f origin = posed.world_from_cam.translation().cast<float>();
+  octomap::KeySet free_cells, occupied_cells;
+  octomap::KeyRay ray;
+  const std::vector<Eigen::Vector3f> endpoints = map.RayEndpoints(posed.rays);
+  for (const Eigen::Vector3f& endpoint_cam : endpoints) {
+    const Eigen::Vector3f direction = rotation * endpoint_cam;
+    const float range = direction.norm();
+    const float sigma = static_cast<float>(options.depth_noise_at_1m) * endpoint_cam.z() * endpoint_cam.z();
+    const float margin = std::max(resolution, 2.0f * sigma);
+    const bool surface = range <= max_range;
+    const float free_length = surface ? range - margin : max_range;
+    if (free_length > 0 && tree->computeRayKeys(ToOcto(origin), ToOcto(origin + direction * (free_length / range)), ray))
+      free_cells.insert(ray.begin(), ray.end());
+    octomap::OcTreeKey key;
+    if (surface && tree->coordToKeyChecked(ToOcto(origin + direction), key)) occupied_cells.insert(key);
   }
+  for (const octomap::OcTreeKey& key : free_cells)
+    if (occupied_cells.find(key) == occupied_cells.end()) tree->updateNode(key, false, /*lazy_eval=*/true);
+  for (const octomap::OcTreeKey& key : occupied_cells) tree->updateNode(key, true, /*lazy_eval=*/true);
+  return endpoints.size();
+}
+
+}  // namespace
+
+OctomapStats WriteOctomap(const std::string& path, const DenseMap& map, const KeyframePoses& poses) {
+  octomap::OcTree tree(map.options().octomap_resolution);
+  OctomapStats stats;
+  for (const PosedRays& posed : map.RaysAt(poses)) stats.rays += InsertKeyframeRays(&tree, map, posed);
   tree.updateInnerOccupancy();
   for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
     ++stats.leaf_nodes;

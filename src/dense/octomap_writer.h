@@ -1,9 +1,9 @@
 #pragma once
 // OctoMap occupancy tree of the static map, for planners: every keyframe's rays (KeyframeRays,
 // dynamic pixels left out) are inserted with ray casting from that keyframe's camera centre at
-// its current pose, so the space between camera and surface is carved free and surfaces become
-// occupied; readings beyond DenseOptions::octomap_max_range only carve free space up to that
-// range. Resolution: DenseOptions::octomap_resolution. Written as a binary .bt file (OctoMap's own
+// its current pose, so the space between camera and surface is carved free (up to a noise margin
+// before the reading) and surfaces become occupied; readings beyond
+// DenseOptions::octomap_max_range only carve free space up to that range. Resolution: DenseOptions::octomap_resolution. Written as a binary .bt file (OctoMap's own
 // format, readable by octovis and octomap::OcTree::readBinary).
 
 #include <string>
