@@ -119,8 +119,8 @@ void AnchoredVoxelMap::Accumulate(const PointRef& ref, const Eigen::Vector3f& p_
   anchor.max_range = std::max(anchor.max_range, target.position.norm());
 }
 
-int AnchoredVoxelMap::UpdatePoses(const KeyframePoses& poses) {
-  const double threshold = 0.25 * voxel_size_;
+int AnchoredVoxelMap::UpdatePoses(const KeyframePoses& poses, double threshold_voxels) {
+  const double threshold = threshold_voxels * voxel_size_;
   std::vector<std::uint32_t> moved;
   for (std::uint32_t slot = 0; slot < anchors_.size(); ++slot) {
     const Anchor& anchor = anchors_[slot];
@@ -141,6 +141,7 @@ int AnchoredVoxelMap::UpdatePoses(const KeyframePoses& poses) {
     }
   }
   for (const std::uint32_t slot : moved) {
+    reindexed_points_ += anchors_[slot].points.size() - anchors_[slot].holes;
     SetAnchorPose(&anchors_[slot], poses.at(anchors_[slot].keyframe_id));
     for (std::uint32_t i = 0; i < anchors_[slot].points.size(); ++i)
       if (anchors_[slot].points[i].weight > 0) Reinsert(slot, i);

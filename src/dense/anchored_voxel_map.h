@@ -15,8 +15,8 @@
 // A band still grows from readings beyond the radius, but far more slowly (tests/dense).
 //
 // The voxel index is valid for the anchor poses it was built with. UpdatePoses() re-indexes the
-// points of every anchor whose pose moved a point by more than a quarter voxel, merging points
-// that now share a voxel (a loop closure that brings a drifted second copy of a wall onto the
+// points of every anchor whose pose moved a point by more than a threshold (default a quarter
+// voxel), merging points that now share a voxel (a loop closure that brings a drifted second copy of a wall onto the
 // first one halves its storage). Smaller pose changes can leave two points of one surface in
 // neighbouring voxels; Extract() re-voxelises at the given poses, so the output has one point per
 // voxel in any case.
@@ -44,8 +44,9 @@ class AnchoredVoxelMap {
   // poses, so call UpdatePoses() first. Integrating a keyframe id twice adds to its points.
   void Integrate(long keyframe_id, const Rigid3& world_from_cam, const PointCloud& points_cam);
 
-  // Anchors missing from `poses` keep their indexed pose. Returns the number of anchors re-indexed.
-  int UpdatePoses(const KeyframePoses& poses);
+  // Re-indexes the anchors whose pose in `poses` moves a point by more than threshold_voxels
+  // voxels (anchors missing from `poses` keep their indexed pose). Returns how many it re-indexed.
+  int UpdatePoses(const KeyframePoses& poses, double threshold_voxels = 0.25);
 
   // World-frame cloud, one point per voxel, at `poses` (anchors missing there: indexed pose).
   PointCloud Extract(const KeyframePoses& poses) const;
@@ -53,6 +54,7 @@ class AnchoredVoxelMap {
   double voxel_size() const { return voxel_size_; }
   std::size_t num_points() const { return live_points_; }
   std::size_t num_anchors() const { return anchors_.size(); }
+  std::size_t num_reindexed_points() const { return reindexed_points_; }  // summed over all UpdatePoses calls
   // Bytes held by the points and the voxel index (containers' capacity plus an estimate of the
   // hash table's node and bucket overhead).
   std::size_t memory_bytes() const;
@@ -102,6 +104,7 @@ class AnchoredVoxelMap {
   std::unordered_map<long, std::uint32_t> slot_of_keyframe_;
   std::unordered_map<std::uint64_t, PointRef> index_;
   std::size_t live_points_ = 0;
+  std::size_t reindexed_points_ = 0;
 };
 
 }  // namespace esdslam

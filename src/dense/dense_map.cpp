@@ -7,12 +7,12 @@ namespace esdslam {
 DenseMap::DenseMap(const PinholeCamera& camera, const DenseOptions& options)
     : options_(options), backprojector_(camera, options), points_(options.voxel_size, options.depth_noise_at_1m) {}
 
-void DenseMap::Integrate(const DenseKeyframe& keyframe, const KeyframePoses& poses) {
+void DenseMap::Integrate(const DenseKeyframe& keyframe, const KeyframePoses& poses, bool behind) {
   KeyframeObservation observation = backprojector_.Observe(keyframe.bgr, keyframe.depth_m, keyframe.dynamic_mask);
   std::lock_guard<std::mutex> lock(mutex_);
   keyframes_[keyframe.id] = KeyframeRecord{keyframe.timestamp, keyframe.world_from_cam, std::move(observation.rays)};
   const KeyframePoses resolved = ResolveLocked(poses);
-  reindexed_anchors_ += points_.UpdatePoses(resolved);
+  reindexed_anchors_ += points_.UpdatePoses(resolved, behind ? 1.0 : 0.25);
   points_.Integrate(keyframe.id, resolved.at(keyframe.id), observation.points_cam);
 }
 
@@ -71,6 +71,7 @@ DenseMapStats DenseMap::stats() const {
   stats.point_bytes = points_.memory_bytes();
   for (const auto& entry : keyframes_) stats.ray_bytes += entry.second.rays.bytes();
   stats.reindexed_anchors = reindexed_anchors_;
+  stats.reindexed_points = points_.num_reindexed_points();
   return stats;
 }
 

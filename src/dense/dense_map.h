@@ -45,15 +45,18 @@ struct DenseMapStats {
   std::size_t point_bytes = 0;     // AnchoredVoxelMap::memory_bytes()
   std::size_t ray_bytes = 0;       // every keyframe's KeyframeRays
   long reindexed_anchors = 0;      // keyframes re-indexed after pose changes, summed over the run
+  std::size_t reindexed_points = 0;  // points those re-indexings moved
 };
 
 class DenseMap {
  public:
   DenseMap(const PinholeCamera& camera, const DenseOptions& options);
 
-  // Back-projects `keyframe` (no lock held), re-indexes the keyframes whose pose in `poses` moved,
-  // then integrates it at its pose in `poses` (else its hand-off pose).
-  void Integrate(const DenseKeyframe& keyframe, const KeyframePoses& poses);
+  // Back-projects `keyframe` (no lock held), re-indexes the keyframes whose pose in `poses` moved
+  // a point by more than a quarter voxel (`behind`: by a voxel; bundle adjustment nudges most
+  // keyframes of a small scene by millimetres every time, and re-indexing all of them costs more
+  // than the integration itself), then integrates it at its pose in `poses` (else its hand-off pose).
+  void Integrate(const DenseKeyframe& keyframe, const KeyframePoses& poses, bool behind = false);
 
   // Every keyframe's world_from_cam: from `poses` when present, else the hand-off pose.
   KeyframePoses Resolve(const KeyframePoses& poses) const;

@@ -1,6 +1,7 @@
 #include "dense/dense_mapper.h"
 
 #include <algorithm>
+#include <ctime>
 #include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
@@ -10,6 +11,16 @@
 #include "common/timer.h"
 
 namespace esdslam {
+
+namespace {
+
+double ThreadCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
+
+}  // namespace
 
 DenseMapper::DenseMapper(const PinholeCamera& camera, const DenseOptions& options, KeyframePoseSource poses,
                          const DenseMapperOptions& mapper_options)
@@ -56,6 +67,7 @@ DenseMapperStats DenseMapper::stats() const {
     stats.mean_keyframe_ms = processed_ > 0 ? total_ms_ / processed_ : 0.0;
     stats.max_keyframe_ms = max_ms_;
     stats.mean_pose_ms = processed_ > 0 ? pose_ms_ / processed_ : 0.0;
+    stats.mean_keyframe_cpu_ms = processed_ > 0 ? cpu_ms_ / processed_ : 0.0;
     stats.mean_handoff_ms = handoffs_ > 0 ? handoff_total_ms_ / handoffs_ : 0.0;
     stats.max_handoff_ms = handoff_max_ms_;
   }
@@ -65,10 +77,13 @@ DenseMapperStats DenseMapper::stats() const {
 
 void DenseMapper::Process(const DenseKeyframe& keyframe) {
   const Stopwatch watch;
+  const double cpu_start = ThreadCpuMs();
   const KeyframePoses poses = poses_ ? poses_() : KeyframePoses{};
   const double pose_ms = watch.ElapsedMs();
-  map_.Integrate(keyframe, poses);
+  // Keyframes waiting: the dense thread is behind, so it re-indexes only keyframes that moved a voxel.
+  map_.Integrate(keyframe, poses, mapper_options_.threaded && queue_.Size() > 0);
   const double ms = watch.ElapsedMs();
+  const double cpu_ms = ThreadCpuMs() - cpu_start;
   if (!mapper_options_.mask_dir.empty()) {
     const std::string path = fmt::format("{}/{:.6f}.png", mapper_options_.mask_dir, keyframe.timestamp);
     const cv::Mat mask = keyframe.dynamic_mask.empty() ? cv::Mat::zeros(keyframe.depth_m.size(), CV_8U) : keyframe.dynamic_mask;
@@ -77,6 +92,7 @@ void DenseMapper::Process(const DenseKeyframe& keyframe) {
   std::lock_guard<std::mutex> lock(stats_mutex_);
   total_ms_ += ms;
   pose_ms_ += pose_ms;
+  cpu_ms_ += cpu_ms;
   max_ms_ = std::max(max_ms_, ms);
   ++processed_;
 }

@@ -39,6 +39,7 @@ struct DenseMapperStats {
   double mean_keyframe_ms = 0;  // poses + back-projection + re-indexing + integration, per keyframe
   double max_keyframe_ms = 0;
   double mean_pose_ms = 0;      // of which reading the poses (waits for the SLAM map's update mutex)
+  double mean_keyframe_cpu_ms = 0;  // CPU time of the same work (wall time also counts waiting for a core)
   double mean_handoff_ms = 0;   // AddKeyframe on the producer's thread (queue push; waits only when full)
   double max_handoff_ms = 0;
   DenseMapStats map;
@@ -75,7 +76,7 @@ class DenseMapper {
   BoundedQueue<DenseKeyframe> queue_;
   std::thread worker_;
   mutable std::mutex stats_mutex_;
-  double total_ms_ = 0, max_ms_ = 0, pose_ms_ = 0;
+  double total_ms_ = 0, max_ms_ = 0, pose_ms_ = 0, cpu_ms_ = 0;
   long processed_ = 0;
   double handoff_total_ms_ = 0, handoff_max_ms_ = 0;
   long handoffs_ = 0;

@@ -19,6 +19,7 @@ struct DenseOptions {
   double outlier_std_ratio = 2.0;     // drop points whose mean k-NN distance > mean + ratio * std
   double octomap_resolution = 0.05;   // m: OctoMap leaf size
   double octomap_max_range = 4.0;     // m: rays are cut at this length when carving free space
+  bool write_pcd = false;             // also write dense.pcd (PCL) next to dense.ply
 
   void Check() const {
     if (!(voxel_size > 0)) throw Error("Dense.voxelSize must be positive");

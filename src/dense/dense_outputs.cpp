@@ -32,7 +32,7 @@ DenseOutputSummary WriteDenseOutputs(const DenseMap& map, const KeyframePoses& p
   summary.cloud_ms = watch.ElapsedMs();
   summary.points = cloud.size();
   if (files.ply) WritePly(dir + "/dense.ply", cloud);
-  if (files.pcd) WritePcd(dir + "/dense.pcd", cloud);
+  if (files.pcd || map.options().write_pcd) WritePcd(dir + "/dense.pcd", cloud);
   if (files.octomap) {
     watch.Restart();
     const OctomapStats stats = WriteOctomap(dir + "/octomap.bt", map, resolved);

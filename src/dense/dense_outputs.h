@@ -1,6 +1,6 @@
 #pragma once
 // The dense map's output files, written from a DenseMap at given keyframe poses:
-// dir/dense.ply (binary, coloured), dir/dense.pcd (optional), dir/octomap.bt and two pictures,
+// dir/dense.ply (binary, coloured), dir/dense.pcd (optional: Dense.writePcd), dir/octomap.bt and two pictures,
 // dir/dense_top.png and dir/dense_view.png (dense/map_render.h).
 
 #include <string>
@@ -11,7 +11,7 @@ namespace esdslam {
 
 struct DenseOutputFiles {
   bool ply = true;
-  bool pcd = false;
+  bool pcd = false;  // also when DenseOptions::write_pcd
   bool octomap = true;
   bool pictures = true;
 };

@@ -14,6 +14,7 @@ void BindDenseSettings(DenseOptions& options, SettingsTable& table) {
   table.Add("Dense.outlierStdRatio", &options.outlier_std_ratio);
   table.Add("Dense.octomapResolution", &options.octomap_resolution);
   table.Add("Dense.octomapMaxRange", &options.octomap_max_range);
+  table.Add("Dense.writePcd", &options.write_pcd);
 }
 
 }  // namespace esdslam

@@ -119,11 +119,11 @@ void DynamicRun::Finish(const std::string& out_dir) {
   WriteTumTrajectory(out_dir + "/dense_keyframes.txt", dense_->map().StampedPoses(dense_->CurrentPoses()));
   const DenseMapperStats stats = dense_->stats();
   spdlog::info("dense: {} points from {} keyframes, {} occupied octomap leaves, final build {:.0f} ms "
-               "(cloud {:.0f}, octomap {:.0f}); per keyframe {:.1f} ms (max {:.1f}, reading poses {:.1f}) on the dense "
-               "thread, {} re-indexings; hand-off {:.3f} ms (max {:.3f}); map {:.1f} MB + rays {:.1f} MB",
+               "(cloud {:.0f}, octomap {:.0f}); per keyframe {:.1f} ms (max {:.1f}, reading poses {:.1f}; CPU {:.1f}) on the dense "
+               "thread, {} re-indexings ({:.1f} M points); hand-off {:.3f} ms (max {:.3f}); map {:.1f} MB + rays {:.1f} MB",
                summary.points, summary.keyframes, summary.occupied_leaves, summary.build_ms, summary.cloud_ms,
-               summary.octomap_ms, stats.mean_keyframe_ms, stats.max_keyframe_ms, stats.mean_pose_ms,
-               stats.map.reindexed_anchors, stats.mean_handoff_ms, stats.max_handoff_ms, stats.map.point_bytes / 1e6,
+               summary.octomap_ms, stats.mean_keyframe_ms, stats.max_keyframe_ms, stats.mean_pose_ms, stats.mean_keyframe_cpu_ms,
+               stats.map.reindexed_anchors, stats.map.reindexed_points / 1e6, stats.mean_handoff_ms, stats.max_handoff_ms, stats.map.point_bytes / 1e6,
                stats.map.ray_bytes / 1e6);
 }
 
