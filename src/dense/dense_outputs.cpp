@@ -15,7 +15,7 @@ namespace esdslam {
 namespace {
 
 void WritePicture(const std::string& path, const cv::Mat& image) {
-  if (!cv::imwrite(path, image)) throw Error("cannot write " + path);
+  if (!cv::imwrite(path, image, {cv::IMWRITE_PNG_COMPRESSION, 9})) throw Error("cannot write " + path);
 }
 
 }  // namespace
