@@ -12,6 +12,7 @@
 #include <sys/resource.h>
 
 #include <filesystem>
+#include <functional>
 
 #include <benchmark/benchmark.h>
 
@@ -55,25 +56,23 @@ Sequence OpenSequence(const std::string& name, const std::string& config) {
   return seq;
 }
 
-void MapSequence(benchmark::State& state, const std::string& name, const std::string& config) {
-  if (!std::filesystem::exists(std::string(ESDSLAM_TEST_DATA_DIR) + "/data/" + name)) {
-    state.SkipWithError((name + " not found").c_str());
-    return;
-  }
-  const Sequence seq = OpenSequence(name, config);
+// Maps every `step`-th (arg 0) of `frames` keyframes, `load(i)` giving keyframe i (not timed),
+// then writes the outputs (no pictures) and reports the counters.
+void MapAndReport(benchmark::State& state, const PinholeCamera& camera, const DenseOptions& options, std::size_t frames,
+                  const std::function<DenseKeyframe(std::size_t)>& load) {
   const auto step = static_cast<std::size_t>(state.range(0));
-  const std::string out = (std::filesystem::temp_directory_path() / ("esdslam_dense_bench_" + name)).string();
+  const std::string out = (std::filesystem::temp_directory_path() / "esdslam_dense_bench").string();
   DenseMapperStats stats;
   DenseOutputSummary summary;
   for (auto _ : state) {
     DenseMapperOptions mapper;
-    mapper.threaded = false;  // time each keyframe alone; image loading is excluded below
-    DenseMapper dense(PinholeCamera(seq.settings.core.camera), seq.settings.dense, {}, mapper);
-    for (std::size_t i = 0; i < seq.frames.size(); i += step) {
+    mapper.threaded = false;  // time each keyframe alone
+    DenseMapper dense(camera, options, {}, mapper);
+    for (std::size_t i = 0; i < frames; i += step) {
       state.PauseTiming();
-      const RgbdImages images = LoadRgbd(seq.frames[i], seq.settings.core.depth_map_factor);
+      DenseKeyframe keyframe = load(i);
       state.ResumeTiming();
-      dense.AddKeyframe({static_cast<long>(i), seq.frames[i].timestamp, seq.world_from_cam[i], images.bgr, images.depth_m, cv::Mat()});
+      dense.AddKeyframe(std::move(keyframe));
     }
     DenseOutputFiles files;
     files.pictures = false;
@@ -94,8 +93,20 @@ void MapSequence(benchmark::State& state, const std::string& name, const std::st
   state.counters["peak_rss_MB"] = PeakRssMb();
 }
 
+void MapSequence(benchmark::State& state, const std::string& name, const std::string& config) {
+  if (!std::filesystem::exists(std::string(ESDSLAM_TEST_DATA_DIR) + "/data/" + name)) {
+    state.SkipWithError((name + " not found").c_str());
+    return;
+  }
+  const Sequence seq = OpenSequence(name, config);
+  MapAndReport(state, PinholeCamera(seq.settings.core.camera), seq.settings.dense, seq.frames.size(), [&](std::size_t i) {
+    const RgbdImages images = LoadRgbd(seq.frames[i], seq.settings.core.depth_map_factor);
+    return DenseKeyframe{static_cast<long>(i), seq.frames[i].timestamp, seq.world_from_cam[i], images.bgr, images.depth_m, cv::Mat()};
+  });
+}
+
 // The synthetic static room (240 frames along the arc, ground-truth poses, every `step`-th frame),
-// with exact depth (arg 2 = 0) or Kinect-like noise sigma = 1.5 mm * z^2 (arg 2 = 15, in 0.1 mm):
+// with exact depth (arg 1 = 0) or Kinect-like noise sigma = 1.5 mm * z^2 (arg 1 = 15, in 0.1 mm):
 // the same surfaces seen by 10x more keyframes.
 void BM_DenseMap_SynthStatic(benchmark::State& state) {
   SynthOptions synth = SynthPreset("static");
@@ -103,32 +114,10 @@ void BM_DenseMap_SynthStatic(benchmark::State& state) {
   const SyntheticScene scene(synth);
   DenseOptions options;
   options.depth_noise_at_1m = synth.depth_noise_at_1m;
-  const auto step = static_cast<int>(state.range(0));
-  const std::string out = (std::filesystem::temp_directory_path() / "esdslam_dense_bench_synth").string();
-  DenseMapperStats stats;
-  DenseOutputSummary summary;
-  for (auto _ : state) {
-    DenseMapperOptions mapper;
-    mapper.threaded = false;
-    DenseMapper dense(scene.camera(), options, {}, mapper);
-    for (int i = 0; i < scene.num_frames(); i += step) {
-      state.PauseTiming();
-      const SynthFrame frame = scene.RenderFrame(i);
-      state.ResumeTiming();
-      dense.AddKeyframe({i, frame.timestamp, frame.world_from_cam, frame.bgr, frame.depth_m, cv::Mat()});
-    }
-    DenseOutputFiles files;
-    files.pictures = false;
-    summary = dense.WriteOutputs(out, files);
-    stats = dense.stats();
-  }
-  state.counters["keyframes"] = static_cast<double>(stats.keyframes);
-  state.counters["keyframe_ms"] = stats.mean_keyframe_ms;
-  state.counters["stored_points"] = static_cast<double>(stats.map.points);
-  state.counters["output_points"] = static_cast<double>(summary.points);
-  state.counters["map_MB"] = stats.map.point_bytes / 1e6;
-  state.counters["rays_MB"] = stats.map.ray_bytes / 1e6;
-  state.counters["octomap_occupied"] = static_cast<double>(summary.occupied_leaves);
+  MapAndReport(state, scene.camera(), options, static_cast<std::size_t>(scene.num_frames()), [&](std::size_t i) {
+    const SynthFrame frame = scene.RenderFrame(static_cast<int>(i));
+    return DenseKeyframe{static_cast<long>(i), frame.timestamp, frame.world_from_cam, frame.bgr, frame.depth_m, cv::Mat()};
+  });
 }
 BENCHMARK(BM_DenseMap_SynthStatic)->Args({10, 0})->Args({1, 0})->Args({10, 15})->Args({1, 15})->Iterations(1)->Unit(benchmark::kMillisecond);
 
