@@ -1,7 +1,8 @@
 // `esdslam map`: rebuilds the static dense map (PLY/PCD, OctoMap, PNG views) from a saved
-// trajectory (keyframes.txt or trajectory.txt of a run) and the sequence's images. Dynamic
-// pixels are left out using per-frame masks saved by a run (`--masks DIR`, files
-// <timestamp>.png, nonzero = dynamic); without masks every valid depth pixel is used.
+// trajectory (dense_keyframes.txt, keyframes.txt or trajectory.txt of a run) and the sequence's
+// images. Dynamic pixels are left out using per-frame masks saved by a run (`--masks DIR`, files
+// <timestamp>.png, nonzero = dynamic); without masks every valid depth pixel is used. Prints the
+// map's size, time per keyframe, final build time and memory.
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -12,7 +13,6 @@
 #include "apps/esdslam/commands.h"
 #include "common/error.h"
 #include "dense/dense_mapper.h"
-#include "dense/dense_settings.h"
 #include "io/settings.h"
 #include "io/settings_table.h"
 #include "io/trajectory_io.h"
@@ -66,8 +66,9 @@ int RunMap(const MapArgs& args) {
   const TumSequence sequence = TumSequence::Open(args.sequence_dir);
   const std::vector<StampedPose> poses = ReadTumTrajectory(args.trajectory_path);
   if (poses.empty()) throw InputError(args.trajectory_path, 0, "trajectory has no poses");
-  DenseMapper mapper(PinholeCamera(settings.camera), dense_options, /*threaded=*/false);
-  std::map<long, Rigid3> world_from_keyframe;
+  // Poses are fixed here, so the worker (which overlaps image loading with integration) gives the
+  // same map as a single-threaded build.
+  DenseMapper mapper(PinholeCamera(settings.camera), dense_options);
   long id = 0;
   for (const StampedPose& pose : poses) {
     const FrameEntry* frame = NearestFrame(sequence.frames(), pose.timestamp, args.max_dt);
@@ -76,16 +77,22 @@ int RunMap(const MapArgs& args) {
       continue;
     }
     const RgbdImages images = LoadRgbd(*frame, settings.depth_map_factor);
-    mapper.AddKeyframe(id, images.bgr, images.depth_m, LoadMask(args.masks_dir, *frame));
-    world_from_keyframe[id++] = pose.world_from_cam;
+    mapper.AddKeyframe({id++, pose.timestamp, pose.world_from_cam, images.bgr, images.depth_m, LoadMask(args.masks_dir, *frame)});
     std::fprintf(stderr, "\rmap: %ld/%zu poses", id, poses.size());
   }
   std::fprintf(stderr, "\n");
+  mapper.Finish();
   DenseOutputFiles files;
   files.pcd = args.pcd;
-  const DenseOutputSummary summary = WriteDenseOutputs(mapper.map(), world_from_keyframe, args.out_dir, files);
-  std::printf("dense_points %zu\nkeyframes %zu\noctomap_occupied_leaves %zu\nbuild_ms %.1f\n", summary.points,
-              summary.keyframes, summary.occupied_leaves, summary.build_ms);
+  const DenseOutputSummary summary = mapper.WriteOutputs(args.out_dir, files);
+  const DenseMapperStats stats = mapper.stats();
+  std::printf("dense_points %zu\nkeyframes %zu\noctomap_occupied_leaves %zu\noctomap_free_leaves %zu\n", summary.points,
+              summary.keyframes, summary.occupied_leaves, summary.free_leaves);
+  std::printf("keyframe_ms_mean %.1f\nkeyframe_ms_max %.1f\nkeyframe_cpu_ms_mean %.1f\nbuild_ms %.1f\ncloud_ms %.1f\noctomap_ms %.1f\n",
+              stats.mean_keyframe_ms, stats.max_keyframe_ms, stats.mean_keyframe_cpu_ms, summary.build_ms, summary.cloud_ms,
+              summary.octomap_ms);
+  std::printf("map_points_stored %zu\nmap_bytes %zu\nray_bytes %zu\n", stats.map.points, stats.map.point_bytes,
+              stats.map.ray_bytes);
   return 0;
 }
 

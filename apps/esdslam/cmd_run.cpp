@@ -173,6 +173,7 @@ int Run(const RunArgs& args) {
   run_options.realtime = args.realtime || run_settings.semantic.mode == SegmentationMode::kNewestWins;
   if (run_options.realtime) run_settings.semantic.mode = SegmentationMode::kNewestWins;
   run_options.dense = args.dense;
+  if (args.dense) run_options.dense_mask_dir = (std::filesystem::path(args.out_dir) / "masks").string();
   run_options.debug_frames_dir = args.debug_frames_dir;
   run_options.threaded_dense = !args.single_thread;
   LogEffectiveSettings(run_settings, run_options);
@@ -236,7 +237,7 @@ RunFn Setup(CLI::App& app) {
                "model and depth (default: wait for every frame's labels)");
   app.add_flag("--dense", args->dense,
                "Build the static dense map of the keyframes: dense.ply, octomap.bt, dense_top.png, "
-               "dense_view.png and masks/<timestamp>.png in the output folder");
+               "dense_view.png, dense_keyframes.txt and masks/<timestamp>.png in the output folder");
   app.add_option("--debug-frames", args->debug_frames_dir,
                  "Write per-frame PNGs (kept keypoints green, removed red, mask outline) to this folder");
   return [args] { return Run(*args); };

@@ -1,55 +1,78 @@
 #include "dense/dense_map.h"
 
 #include "dense/outlier_filter.h"
-#include "dense/voxel_grid.h"
 
 namespace esdslam {
 
-DenseMap::DenseMap(const DenseOptions& options) : options_(options) { options_.Check(); }
+DenseMap::DenseMap(const PinholeCamera& camera, const DenseOptions& options)
+    : options_(options), backprojector_(camera, options), points_(options.voxel_size, options.depth_noise_at_1m) {}
 
-void DenseMap::SetKeyframeCloud(long keyframe_id, PointCloud cloud_in_cam) {
+void DenseMap::Integrate(const DenseKeyframe& keyframe, const KeyframePoses& poses, bool behind) {
+  KeyframeObservation observation = backprojector_.Observe(keyframe.bgr, keyframe.depth_m, keyframe.dynamic_mask);
   std::lock_guard<std::mutex> lock(mutex_);
-  clouds_in_cam_[keyframe_id] = std::move(cloud_in_cam);
+  keyframes_[keyframe.id] = KeyframeRecord{keyframe.timestamp, keyframe.world_from_cam, std::move(observation.rays)};
+  const KeyframePoses resolved = ResolveLocked(poses);
+  reindexed_anchors_ += points_.UpdatePoses(resolved, behind ? 1.0 : 0.25);
+  points_.Integrate(keyframe.id, resolved.at(keyframe.id), observation.points_cam);
 }
 
-void DenseMap::RemoveKeyframe(long keyframe_id) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  clouds_in_cam_.erase(keyframe_id);
-}
-
-std::size_t DenseMap::num_keyframes() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return clouds_in_cam_.size();
-}
-
-std::size_t DenseMap::num_stored_points() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  std::size_t n = 0;
-  for (const auto& entry : clouds_in_cam_) n += entry.second.size();
-  return n;
-}
-
-std::vector<DenseMap::PosedCloud> DenseMap::PosedClouds(const std::map<long, Rigid3>& world_from_keyframe) const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  std::vector<PosedCloud> out;
-  for (const auto& [id, cloud] : clouds_in_cam_) {
-    const auto pose = world_from_keyframe.find(id);
-    if (pose == world_from_keyframe.end()) continue;
-    out.push_back({pose->second.translation(), TransformCloud(cloud, pose->second)});
+KeyframePoses DenseMap::ResolveLocked(const KeyframePoses& poses) const {
+  KeyframePoses resolved;
+  for (const auto& [id, record] : keyframes_) {
+    const auto given = poses.find(id);
+    resolved.emplace_hint(resolved.end(), id, given != poses.end() ? given->second : record.handoff_world_from_cam);
   }
-  return out;
+  return resolved;
 }
 
-PointCloud DenseMap::BuildGlobalCloud(const std::map<long, Rigid3>& world_from_keyframe) const {
-  VoxelGrid grid(options_.voxel_size);
-  for (const PosedCloud& posed : PosedClouds(world_from_keyframe)) grid.Insert(posed.cloud_world);
-  PointCloud global = grid.Extract();
+KeyframePoses DenseMap::Resolve(const KeyframePoses& poses) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return ResolveLocked(poses);
+}
+
+PointCloud DenseMap::BuildGlobalCloud(const KeyframePoses& poses) const {
+  PointCloud global;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const KeyframePoses resolved = ResolveLocked(poses);
+    reindexed_anchors_ += points_.UpdatePoses(resolved);
+    global = points_.Extract(resolved);
+  }
   if (!options_.outlier_removal) return global;
   OutlierFilterOptions filter;
   filter.neighbors = options_.outlier_neighbors;
   filter.std_ratio = options_.outlier_std_ratio;
   filter.search_radius = 4.0 * options_.voxel_size;
   return RemoveStatisticalOutliers(global, filter);
+}
+
+std::vector<StampedPose> DenseMap::StampedPoses(const KeyframePoses& poses) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const KeyframePoses resolved = ResolveLocked(poses);
+  std::vector<StampedPose> out;
+  for (const auto& [id, record] : keyframes_) out.push_back({record.timestamp, resolved.at(id)});
+  return out;
+}
+
+std::vector<PosedRays> DenseMap::RaysAt(const KeyframePoses& poses) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const KeyframePoses resolved = ResolveLocked(poses);
+  std::vector<PosedRays> out;
+  out.reserve(keyframes_.size());
+  for (const auto& [id, record] : keyframes_) out.push_back({id, resolved.at(id), record.rays});
+  return out;
+}
+
+DenseMapStats DenseMap::stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  DenseMapStats stats;
+  stats.keyframes = keyframes_.size();
+  stats.points = points_.num_points();
+  stats.point_bytes = points_.memory_bytes();
+  for (const auto& entry : keyframes_) stats.ray_bytes += entry.second.rays.bytes();
+  stats.reindexed_anchors = reindexed_anchors_;
+  stats.reindexed_points = points_.num_reindexed_points();
+  return stats;
 }
 
 }  // namespace esdslam

@@ -1,89 +1,110 @@
 #include "dense/dense_mapper.h"
 
+#include <algorithm>
+#include <ctime>
 #include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
+#include "common/error.h"
 #include "common/timer.h"
-#include "dense/cloud_io.h"
-#include "dense/map_render.h"
-#include "dense/octomap_writer.h"
 
 namespace esdslam {
 
-DenseMapper::DenseMapper(const PinholeCamera& camera, const DenseOptions& options, bool threaded)
-    : backprojector_(camera, options), map_(options), threaded_(threaded) {
-  if (threaded_) worker_ = std::thread([this] { WorkerLoop(); });
+namespace {
+
+double ThreadCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
+
+}  // namespace
+
+DenseMapper::DenseMapper(const PinholeCamera& camera, const DenseOptions& options, KeyframePoseSource poses,
+                         const DenseMapperOptions& mapper_options)
+    : map_(camera, options), poses_(std::move(poses)), mapper_options_(mapper_options), queue_(mapper_options.queue_capacity) {
+  if (!mapper_options_.mask_dir.empty()) std::filesystem::create_directories(mapper_options_.mask_dir);
+  if (mapper_options_.threaded) worker_ = std::thread([this] { WorkerLoop(); });
 }
 
 DenseMapper::~DenseMapper() { Finish(); }
 
-void DenseMapper::AddKeyframe(long keyframe_id, const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& dynamic_mask) {
-  Job job{keyframe_id, bgr, depth_m, dynamic_mask};
-  if (!threaded_) {
-    Process(job);
+void DenseMapper::AddKeyframe(DenseKeyframe keyframe) {
+  if (!mapper_options_.threaded) {
+    Process(keyframe);
     return;
   }
-  if (!queue_.Push(std::move(job))) spdlog::warn("dense: keyframe {} arrived after Finish(); ignored", keyframe_id);
+  const Stopwatch watch;
+  const long id = keyframe.id;
+  if (!queue_.Push(std::move(keyframe))) spdlog::warn("dense: keyframe {} arrived after Finish(); ignored", id);
+  const double ms = watch.ElapsedMs();
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  handoff_total_ms_ += ms;
+  handoff_max_ms_ = std::max(handoff_max_ms_, ms);
+  ++handoffs_;
 }
-
-void DenseMapper::RemoveKeyframe(long keyframe_id) { map_.RemoveKeyframe(keyframe_id); }
 
 void DenseMapper::Finish() {
   queue_.Close();
   if (worker_.joinable()) worker_.join();
 }
 
-double DenseMapper::mean_backprojection_ms() const {
-  std::lock_guard<std::mutex> lock(stats_mutex_);
-  return processed_ > 0 ? total_ms_ / processed_ : 0.0;
+KeyframePoses DenseMapper::CurrentPoses() const { return map_.Resolve(poses_ ? poses_() : KeyframePoses{}); }
+
+PointCloud DenseMapper::CurrentCloud() const { return map_.BuildGlobalCloud(CurrentPoses()); }
+
+DenseOutputSummary DenseMapper::WriteOutputs(const std::string& dir, const DenseOutputFiles& files) const {
+  return WriteDenseOutputs(map_, CurrentPoses(), dir, files);
 }
 
-void DenseMapper::Process(const Job& job) {
+DenseMapperStats DenseMapper::stats() const {
+  DenseMapperStats stats;
+  {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    stats.keyframes = processed_;
+    stats.mean_keyframe_ms = processed_ > 0 ? total_ms_ / processed_ : 0.0;
+    stats.max_keyframe_ms = max_ms_;
+    stats.mean_pose_ms = processed_ > 0 ? pose_ms_ / processed_ : 0.0;
+    stats.mean_keyframe_cpu_ms = processed_ > 0 ? cpu_ms_ / processed_ : 0.0;
+    stats.mean_handoff_ms = handoffs_ > 0 ? handoff_total_ms_ / handoffs_ : 0.0;
+    stats.max_handoff_ms = handoff_max_ms_;
+  }
+  stats.map = map_.stats();
+  return stats;
+}
+
+void DenseMapper::Process(const DenseKeyframe& keyframe) {
   const Stopwatch watch;
-  map_.SetKeyframeCloud(job.keyframe_id, backprojector_.Backproject(job.bgr, job.depth_m, job.dynamic_mask));
+  const double cpu_start = ThreadCpuMs();
+  const KeyframePoses poses = poses_ ? poses_() : KeyframePoses{};
+  const double pose_ms = watch.ElapsedMs();
+  // Keyframes waiting: the dense thread is behind, so it re-indexes only keyframes that moved a voxel.
+  map_.Integrate(keyframe, poses, mapper_options_.threaded && queue_.Size() > 0);
+  const double ms = watch.ElapsedMs();
+  const double cpu_ms = ThreadCpuMs() - cpu_start;
+  if (!mapper_options_.mask_dir.empty()) {
+    const std::string path = fmt::format("{}/{:.6f}.png", mapper_options_.mask_dir, keyframe.timestamp);
+    const cv::Mat mask = keyframe.dynamic_mask.empty() ? cv::Mat::zeros(keyframe.depth_m.size(), CV_8U) : keyframe.dynamic_mask;
+    if (!cv::imwrite(path, mask)) throw Error("cannot write " + path);
+  }
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  total_ms_ += watch.ElapsedMs();
+  total_ms_ += ms;
+  pose_ms_ += pose_ms;
+  cpu_ms_ += cpu_ms;
+  max_ms_ = std::max(max_ms_, ms);
   ++processed_;
 }
 
 void DenseMapper::WorkerLoop() {
-  while (auto job = queue_.Pop()) {
+  while (auto keyframe = queue_.Pop()) {
     try {
-      Process(*job);
+      Process(*keyframe);
     } catch (const std::exception& e) {
-      spdlog::error("dense: keyframe {} skipped: {}", job->keyframe_id, e.what());
+      spdlog::error("dense: keyframe {} skipped: {}", keyframe->id, e.what());
     }
   }
-}
-
-DenseOutputSummary WriteDenseOutputs(const DenseMap& map, const std::map<long, Rigid3>& world_from_keyframe,
-                                     const std::string& dir, const DenseOutputFiles& files) {
-  const Stopwatch watch;
-  std::filesystem::create_directories(dir);
-  DenseOutputSummary summary;
-  const PointCloud cloud = map.BuildGlobalCloud(world_from_keyframe);
-  summary.points = cloud.size();
-  summary.keyframes = map.num_keyframes();
-  if (files.ply) WritePly(dir + "/dense.ply", cloud);
-  if (files.pcd) WritePcd(dir + "/dense.pcd", cloud);
-  if (files.octomap) {
-    OctomapStats stats;
-    if (WriteOctomap(dir + "/octomap.bt", map.PosedClouds(world_from_keyframe), map.options().octomap_resolution,
-                     map.options().octomap_max_range, &stats))
-      summary.occupied_leaves = stats.occupied_leaves;
-  }
-  if (files.pictures) {
-    std::vector<Rigid3> cams;
-    for (const auto& entry : world_from_keyframe) cams.push_back(entry.second);
-    MapRenderOptions render;
-    render.point_spacing = map.options().voxel_size;
-    cv::imwrite(dir + "/dense_top.png", RenderTopView(cloud, cams, render));
-    cv::imwrite(dir + "/dense_view.png", RenderPerspectiveView(cloud, cams, render));
-  }
-  summary.build_ms = watch.ElapsedMs();
-  return summary;
 }
 
 }  // namespace esdslam

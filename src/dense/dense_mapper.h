@@ -1,75 +1,85 @@
 #pragma once
 // Builds the static dense map off the tracking thread. Keyframes (colour, depth, dynamic mask)
-// go through a bounded queue to a worker thread that back-projects them into the DenseMap;
-// tracking only pays for the hand-off, so its time does not grow with the map.
+// go through a bounded queue to one worker thread that back-projects them into the DenseMap;
+// tracking only pays for the hand-off (a queue push of shared images), so its time does not grow
+// with the map.
 //
-// Threads: the caller (tracking or local mapping) calls AddKeyframe/RemoveKeyframe; one worker
-// consumes the queue. Shared data: the queue (its own lock) and the DenseMap (its own lock).
-// No lock is held while another is taken.
+// Poses: `poses` (optional) returns the current world_from_cam of the keyframes handed over, e.g.
+// read from the SLAM map after bundle adjustment or loop closure (culled keyframes through their
+// spanning-tree parent). The worker calls it before integrating each keyframe, so points merge at
+// up-to-date poses; on-demand builds call it too. Without a source, hand-off poses are used.
+//
+// Threads and locks: producers call AddKeyframe; the worker pops the queue; any thread may call
+// the on-demand methods (CurrentPoses, CurrentCloud, WriteOutputs, stats) at any time, also
+// while the worker runs (they see the keyframes integrated so far). The pose source is always
+// called with no DenseMapper/DenseMap lock held (it may take the SLAM map's update mutex); the
+// queue and the DenseMap each have their own lock, never held together.
 
-#include <map>
+#include <functional>
 #include <string>
 #include <thread>
 
 #include "common/bounded_queue.h"
 #include "dense/dense_map.h"
-#include "dense/depth_backprojector.h"
+#include "dense/dense_outputs.h"
 
 namespace esdslam {
 
+// Must be thread-safe: called from the worker and from on-demand callers.
+using KeyframePoseSource = std::function<KeyframePoses()>;
+
+struct DenseMapperOptions {
+  bool threaded = true;             // false: each keyframe is processed on the caller's thread (deterministic)
+  std::size_t queue_capacity = 16;  // keyframes waiting; AddKeyframe blocks when full (back-pressure)
+  std::string mask_dir;             // set: the worker writes each keyframe's dynamic mask as <timestamp>.png
+};
+
+struct DenseMapperStats {
+  long keyframes = 0;
+  double mean_keyframe_ms = 0;  // poses + back-projection + re-indexing + integration, per keyframe
+  double max_keyframe_ms = 0;
+  double mean_pose_ms = 0;      // of which reading the poses (waits for the SLAM map's update mutex)
+  double mean_keyframe_cpu_ms = 0;  // CPU time of the same work (wall time also counts waiting for a core)
+  double mean_handoff_ms = 0;   // AddKeyframe on the producer's thread (queue push; waits only when full)
+  double max_handoff_ms = 0;
+  DenseMapStats map;
+};
+
 class DenseMapper {
  public:
-  // threaded = false processes each keyframe on the caller's thread (deterministic tests).
-  DenseMapper(const PinholeCamera& camera, const DenseOptions& options, bool threaded = true);
+  DenseMapper(const PinholeCamera& camera, const DenseOptions& options, KeyframePoseSource poses = {},
+              const DenseMapperOptions& mapper_options = {});
   ~DenseMapper();
   DenseMapper(const DenseMapper&) = delete;
   DenseMapper& operator=(const DenseMapper&) = delete;
 
-  // Images are shared (cv::Mat reference counting), not copied: callers must not write to them
-  // afterwards. dynamic_mask: empty or CV_8U, nonzero = dynamic.
-  void AddKeyframe(long keyframe_id, const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& dynamic_mask);
-  void RemoveKeyframe(long keyframe_id);
+  void AddKeyframe(DenseKeyframe keyframe);
   // Waits until every queued keyframe is in the map and stops the worker. Idempotent.
   void Finish();
 
+  // On demand (any thread, any time): the current poses (source, else hand-off), the global cloud
+  // at them, and all output files at them.
+  KeyframePoses CurrentPoses() const;
+  PointCloud CurrentCloud() const;
+  DenseOutputSummary WriteOutputs(const std::string& dir, const DenseOutputFiles& files = {}) const;
+
+  DenseMapperStats stats() const;
   const DenseMap& map() const { return map_; }
-  double mean_backprojection_ms() const;
 
  private:
-  struct Job {
-    long keyframe_id = 0;
-    cv::Mat bgr, depth_m, dynamic_mask;
-  };
-  void Process(const Job& job);
+  void Process(const DenseKeyframe& keyframe);
   void WorkerLoop();
 
-  DepthBackprojector backprojector_;
   DenseMap map_;
-  bool threaded_;
-  BoundedQueue<Job> queue_{16};
+  KeyframePoseSource poses_;
+  DenseMapperOptions mapper_options_;
+  BoundedQueue<DenseKeyframe> queue_;
   std::thread worker_;
   mutable std::mutex stats_mutex_;
-  double total_ms_ = 0;
+  double total_ms_ = 0, max_ms_ = 0, pose_ms_ = 0, cpu_ms_ = 0;
   long processed_ = 0;
+  double handoff_total_ms_ = 0, handoff_max_ms_ = 0;
+  long handoffs_ = 0;
 };
-
-struct DenseOutputFiles {
-  bool ply = true;
-  bool pcd = false;
-  bool octomap = true;
-  bool pictures = true;
-};
-
-struct DenseOutputSummary {
-  std::size_t points = 0;
-  std::size_t keyframes = 0;
-  std::size_t occupied_leaves = 0;
-  double build_ms = 0;
-};
-
-// Writes dir/dense.ply (and dense.pcd), dir/octomap.bt, dir/dense_top.png and dir/dense_view.png
-// from the map's keyframe clouds at the given keyframe poses.
-DenseOutputSummary WriteDenseOutputs(const DenseMap& map, const std::map<long, Rigid3>& world_from_keyframe,
-                                     const std::string& dir, const DenseOutputFiles& files = {});
 
 }  // namespace esdslam

@@ -8,11 +8,13 @@ void BindDenseSettings(DenseOptions& options, SettingsTable& table) {
   table.Add("Dense.maxDepth", &options.max_depth);
   table.Add("Dense.pixelStride", &options.pixel_stride);
   table.Add("Dense.maskDilation", &options.mask_dilation_px);
+  table.Add("Dense.depthNoiseAt1m", &options.depth_noise_at_1m);
   table.Add("Dense.outlierRemoval", &options.outlier_removal);
   table.Add("Dense.outlierNeighbors", &options.outlier_neighbors);
   table.Add("Dense.outlierStdRatio", &options.outlier_std_ratio);
   table.Add("Dense.octomapResolution", &options.octomap_resolution);
   table.Add("Dense.octomapMaxRange", &options.octomap_max_range);
+  table.Add("Dense.writePcd", &options.write_pcd);
 }
 
 }  // namespace esdslam

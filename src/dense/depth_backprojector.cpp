@@ -1,9 +1,11 @@
 #include "dense/depth_backprojector.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
-#include "dense/voxel_grid.h"
 
 namespace esdslam {
 
@@ -26,6 +28,8 @@ DepthBackprojector::DepthBackprojector(const PinholeCamera& camera, const DenseO
       ray_y_.at<float>(v, u) = static_cast<float>((p.y - camera.cy()) / camera.fy());
     }
   }
+  // Neighbouring rays one OctoMap cell apart at the OctoMap range.
+  ray_stride_ = std::max(1, static_cast<int>(options.octomap_resolution * camera.fx() / options.octomap_max_range));
 }
 
 cv::Mat DepthBackprojector::ExclusionMask(const cv::Mat& dynamic_mask, cv::Size size) const {
@@ -40,14 +44,22 @@ cv::Mat DepthBackprojector::ExclusionMask(const cv::Mat& dynamic_mask, cv::Size 
   return dilated;
 }
 
-PointCloud DepthBackprojector::Backproject(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& dynamic_mask) const {
+KeyframeObservation DepthBackprojector::Observe(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& dynamic_mask) const {
   if (depth_m.type() != CV_32F || bgr.type() != CV_8UC3 || depth_m.size() != bgr.size())
     throw Error("dense: expected CV_8UC3 colour and CV_32F depth of the same size");
   if (depth_m.cols != ray_x_.cols || depth_m.rows != ray_x_.rows)
     throw Error(fmt::format("dense: image is {}x{} but the camera is {}x{}", depth_m.cols, depth_m.rows, ray_x_.cols, ray_x_.rows));
   const cv::Mat excluded = ExclusionMask(dynamic_mask, depth_m.size());
-  VoxelGrid grid(options_.voxel_size);
+  KeyframeObservation observation;
+  observation.points_cam = BackprojectPixels(bgr, depth_m, excluded);
+  observation.rays = SampleRays(depth_m, excluded);
+  return observation;
+}
+
+PointCloud DepthBackprojector::BackprojectPixels(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& excluded) const {
   const int stride = options_.pixel_stride;
+  PointCloud cloud;
+  cloud.reserve(static_cast<std::size_t>((depth_m.rows + stride - 1) / stride) * ((depth_m.cols + stride - 1) / stride));
   for (int v = 0; v < depth_m.rows; v += stride) {
     const float* depth_row = depth_m.ptr<float>(v);
     const std::uint8_t* excluded_row = excluded.ptr<std::uint8_t>(v);
@@ -55,12 +67,36 @@ PointCloud DepthBackprojector::Backproject(const cv::Mat& bgr, const cv::Mat& de
     for (int u = 0; u < depth_m.cols; u += stride) {
       const float z = depth_row[u];
       if (!std::isfinite(z) || z < options_.min_depth || z > options_.max_depth || excluded_row[u]) continue;
-      const Eigen::Vector3f point(ray_x_.at<float>(v, u) * z, ray_y_.at<float>(v, u) * z, z);
       const cv::Vec3b& c = color_row[u];
-      grid.Insert(point, Rgb8{c[2], c[1], c[0]});
+      cloud.push_back(Point(u, v, z), Rgb8{c[2], c[1], c[0]});
     }
   }
-  return grid.Extract();
+  return cloud;
+}
+
+KeyframeRays DepthBackprojector::SampleRays(const cv::Mat& depth_m, const cv::Mat& excluded) const {
+  KeyframeRays rays;
+  rays.stride = ray_stride_;
+  rays.depth_mm = cv::Mat::zeros((depth_m.rows + ray_stride_ - 1) / ray_stride_, (depth_m.cols + ray_stride_ - 1) / ray_stride_, CV_16U);
+  for (int r = 0; r < rays.depth_mm.rows; ++r) {
+    for (int c = 0; c < rays.depth_mm.cols; ++c) {
+      const int u = c * ray_stride_, v = r * ray_stride_;
+      const float z = depth_m.at<float>(v, u);
+      if (!std::isfinite(z) || z < options_.min_depth || excluded.at<std::uint8_t>(v, u)) continue;
+      rays.depth_mm.at<std::uint16_t>(r, c) = static_cast<std::uint16_t>(std::min(65535.0f, std::round(1000.0f * z)));
+    }
+  }
+  return rays;
+}
+
+std::vector<Eigen::Vector3f> DepthBackprojector::RayEndpoints(const KeyframeRays& rays) const {
+  std::vector<Eigen::Vector3f> endpoints;
+  for (int r = 0; r < rays.depth_mm.rows; ++r)
+    for (int c = 0; c < rays.depth_mm.cols; ++c) {
+      const std::uint16_t mm = rays.depth_mm.at<std::uint16_t>(r, c);
+      if (mm > 0) endpoints.push_back(Point(c * rays.stride, r * rays.stride, 0.001f * mm));
+    }
+  return endpoints;
 }
 
 }  // namespace esdslam

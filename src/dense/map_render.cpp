@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
 namespace esdslam {
@@ -61,50 +62,74 @@ void Splat(cv::Mat* image, cv::Mat* zbuffer, int u, int v, float depth, const cv
 
 }  // namespace
 
+namespace {
+
+// Colour bar (height above the lowest point, metres) in the top-right corner.
+void DrawHeightLegend(cv::Mat* image, const HeightPalette& palette, double min_h, double max_h) {
+  const int x0 = image->cols - 40, y0 = 20, height = 160;
+  for (int i = 0; i < height; ++i) {
+    const cv::Vec3b c = palette(1.0 - static_cast<double>(i) / (height - 1));
+    cv::line(*image, {x0, y0 + i}, {x0 + 16, y0 + i}, cv::Scalar(c[0], c[1], c[2]));
+  }
+  const cv::Scalar white(255, 255, 255);
+  cv::putText(*image, fmt::format("{:.1f} m", max_h - min_h), {x0 - 58, y0 + 8}, cv::FONT_HERSHEY_SIMPLEX, 0.5, white, 1, cv::LINE_AA);
+  cv::putText(*image, "0 m", {x0 - 34, y0 + height}, cv::FONT_HERSHEY_SIMPLEX, 0.5, white, 1, cv::LINE_AA);
+  cv::putText(*image, "height", {x0 - 50, y0 + height + 22}, cv::FONT_HERSHEY_SIMPLEX, 0.5, white, 1, cv::LINE_AA);
+}
+
+// Camera path (white) with a dot per keyframe, and a 1 m scale bar.
+void DrawCamerasAndScale(cv::Mat* image, const std::vector<cv::Point>& cams, double metres_to_px) {
+  const cv::Scalar white(255, 255, 255);
+  for (std::size_t i = 1; i < cams.size(); ++i) cv::line(*image, cams[i - 1], cams[i], white, 2, cv::LINE_AA);
+  for (const cv::Point& c : cams) cv::circle(*image, c, 2, white, cv::FILLED, cv::LINE_AA);
+  const int bar = static_cast<int>(metres_to_px);
+  cv::line(*image, {20, image->rows - 20}, {20 + bar, image->rows - 20}, white, 3);
+  cv::putText(*image, "1 m", {20, image->rows - 30}, cv::FONT_HERSHEY_SIMPLEX, 0.6, white, 1, cv::LINE_AA);
+}
+
+}  // namespace
+
 cv::Mat RenderTopView(const PointCloud& cloud, const std::vector<Rigid3>& world_from_cams, const MapRenderOptions& options) {
   const ViewFrame frame = EstimateViewFrame(world_from_cams);
   double max_cam_height = -std::numeric_limits<double>::infinity();
   for (const Rigid3& pose : world_from_cams) max_cam_height = std::max(max_cam_height, (pose.translation() - frame.centre).dot(frame.up));
   if (world_from_cams.empty()) max_cam_height = 0;
   const double clip_height = max_cam_height + options.ceiling_margin;
+  const auto plane_of = [&](const Vec3& p) { return cv::Point2d(p.dot(frame.right), p.dot(frame.forward)); };
   // Plane coordinates (right, forward) and height of every kept point.
   std::vector<cv::Point2d> plane;
   std::vector<double> heights;
-  std::vector<std::size_t> index;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Vec3 p = cloud.points[i].cast<double>() - frame.centre;
     const double h = p.dot(frame.up);
     if (h > clip_height) continue;
-    plane.emplace_back(p.dot(frame.right), p.dot(frame.forward));
+    plane.push_back(plane_of(p));
     heights.push_back(h);
-    index.push_back(i);
   }
   cv::Mat image(options.height, options.width, CV_8UC3, cv::Scalar(30, 30, 30));
   if (plane.empty()) return image;
+  std::vector<cv::Point2d> cams_plane;
+  for (const Rigid3& pose : world_from_cams) cams_plane.push_back(plane_of(pose.translation() - frame.centre));
   cv::Rect2d bounds(plane[0], cv::Size2d(0, 0));
   for (const auto& q : plane) bounds |= cv::Rect2d(q, cv::Size2d(1e-9, 1e-9));
-  const double scale = 0.95 * std::min(options.width / std::max(bounds.width, 1e-6), options.height / std::max(bounds.height, 1e-6));
-  const auto to_pixel = [&](double x, double y) {
-    return cv::Point(static_cast<int>(options.width / 2.0 + (x - (bounds.x + bounds.width / 2)) * scale),
-                     static_cast<int>(options.height / 2.0 - (y - (bounds.y + bounds.height / 2)) * scale));
+  for (const auto& q : cams_plane) bounds |= cv::Rect2d(q, cv::Size2d(1e-9, 1e-9));  // keep the cameras in view
+  const double scale = 0.9 * std::min(options.width / std::max(bounds.width, 1e-6), options.height / std::max(bounds.height, 1e-6));
+  const auto to_pixel = [&](const cv::Point2d& q) {
+    return cv::Point(static_cast<int>(options.width / 2.0 + (q.x - (bounds.x + bounds.width / 2)) * scale),
+                     static_cast<int>(options.height / 2.0 - (q.y - (bounds.y + bounds.height / 2)) * scale));
   };
   const double min_h = *std::min_element(heights.begin(), heights.end());
   const HeightPalette palette;
   const int radius = std::max(options.splat_px, static_cast<int>(std::ceil(0.5 * options.point_spacing * scale)) + 1);
   cv::Mat zbuffer(options.height, options.width, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
   for (std::size_t k = 0; k < plane.size(); ++k) {
-    const cv::Point px = to_pixel(plane[k].x, plane[k].y);
+    const cv::Point px = to_pixel(plane[k]);
     Splat(&image, &zbuffer, px.x, px.y, static_cast<float>(-heights[k]), palette((heights[k] - min_h) / std::max(clip_height - min_h, 1e-6)), radius);
   }
-  for (std::size_t i = 1; i < world_from_cams.size(); ++i) {
-    const Vec3 a = world_from_cams[i - 1].translation() - frame.centre, b = world_from_cams[i].translation() - frame.centre;
-    cv::line(image, to_pixel(a.dot(frame.right), a.dot(frame.forward)), to_pixel(b.dot(frame.right), b.dot(frame.forward)),
-             cv::Scalar(255, 255, 255), 2, cv::LINE_AA);
-  }
-  // Scale bar: 1 m.
-  const int bar = static_cast<int>(scale);
-  cv::line(image, {20, options.height - 20}, {20 + bar, options.height - 20}, cv::Scalar(255, 255, 255), 3);
-  cv::putText(image, "1 m", {20, options.height - 30}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+  std::vector<cv::Point> cams_px;
+  for (const auto& q : cams_plane) cams_px.push_back(to_pixel(q));
+  DrawCamerasAndScale(&image, cams_px, scale);
+  DrawHeightLegend(&image, palette, min_h, clip_height);
   return image;
 }
 

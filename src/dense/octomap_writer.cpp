@@ -1,43 +1,63 @@
 #include "dense/octomap_writer.h"
 
-#include "common/error.h"
-#include "dense/voxel_grid.h"
+#include <algorithm>
 
-#ifdef ESDSLAM_HAVE_OCTOMAP
 #include <octomap/OcTree.h>
-#endif
+
+#include "common/error.h"
 
 namespace esdslam {
 
-#ifdef ESDSLAM_HAVE_OCTOMAP
-bool WriteOctomap(const std::string& path, const std::vector<DenseMap::PosedCloud>& clouds, double resolution,
-                  double max_range, OctomapStats* stats) {
-  octomap::OcTree tree(resolution);
-  for (const DenseMap::PosedCloud& posed : clouds) {
-    // One ray per occupied OctoMap cell is enough: thin the 1 cm cloud to the tree resolution.
-    const PointCloud thinned = VoxelDownsample(posed.cloud_world, resolution);
-    octomap::Pointcloud scan;
-    scan.reserve(thinned.size());
-    for (const auto& p : thinned.points) scan.push_back(p.x(), p.y(), p.z());
-    const octomap::point3d origin(static_cast<float>(posed.sensor_origin_world.x()), static_cast<float>(posed.sensor_origin_world.y()),
-                                  static_cast<float>(posed.sensor_origin_world.z()));
-    tree.insertPointCloud(scan, origin, max_range, /*lazy_eval=*/false, /*discretize=*/true);
+namespace {
+
+octomap::point3d ToOcto(const Eigen::Vector3f& p) { return octomap::point3d(p.x(), p.y(), p.z()); }
+
+// One keyframe's rays as one OctoMap scan update (each cell updated once per keyframe, occupied
+// winning over free, as OcTree::insertPointCloud does). Free space is carved up to `margin` before
+// each reading (one cell or two sigma of its depth noise, whichever is larger): without it, rays
+// grazing a surface from later keyframes carve away the cells that earlier readings of that
+// surface marked occupied. Returns the number of rays.
+std::size_t InsertKeyframeRays(octomap::OcTree* tree, const DenseMap& map, const PosedRays& posed) {
+  const DenseOptions& options = map.options();
+  const float resolution = static_cast<float>(options.octomap_resolution);
+  const float max_range = static_cast<float>(options.octomap_max_range);
+  const Eigen::Matrix3f rotation = posed.world_from_cam.rotation_matrix().cast<float>();
+  const Eigen::Vector3f origin = posed.world_from_cam.translation().cast<float>();
+  octomap::KeySet free_cells, occupied_cells;
+  octomap::KeyRay ray;
+  const std::vector<Eigen::Vector3f> endpoints = map.RayEndpoints(posed.rays);
+  for (const Eigen::Vector3f& endpoint_cam : endpoints) {
+    const Eigen::Vector3f direction = rotation * endpoint_cam;
+    const float range = direction.norm();
+    const float sigma = static_cast<float>(options.depth_noise_at_1m) * endpoint_cam.z() * endpoint_cam.z();
+    const float margin = std::max(resolution, 2.0f * sigma);
+    const bool surface = range <= max_range;
+    const float free_length = surface ? range - margin : max_range;
+    if (free_length > 0 && tree->computeRayKeys(ToOcto(origin), ToOcto(origin + direction * (free_length / range)), ray))
+      free_cells.insert(ray.begin(), ray.end());
+    octomap::OcTreeKey key;
+    if (surface && tree->coordToKeyChecked(ToOcto(origin + direction), key)) occupied_cells.insert(key);
   }
+  for (const octomap::OcTreeKey& key : free_cells)
+    if (occupied_cells.find(key) == occupied_cells.end()) tree->updateNode(key, false, /*lazy_eval=*/true);
+  for (const octomap::OcTreeKey& key : occupied_cells) tree->updateNode(key, true, /*lazy_eval=*/true);
+  return endpoints.size();
+}
+
+}  // namespace
+
+OctomapStats WriteOctomap(const std::string& path, const DenseMap& map, const KeyframePoses& poses) {
+  octomap::OcTree tree(map.options().octomap_resolution);
+  OctomapStats stats;
+  for (const PosedRays& posed : map.RaysAt(poses)) stats.rays += InsertKeyframeRays(&tree, map, posed);
   tree.updateInnerOccupancy();
-  if (stats) {
-    *stats = OctomapStats{};
-    for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
-      ++stats->leaf_nodes;
-      if (tree.isNodeOccupied(*it)) ++stats->occupied_leaves; else ++stats->free_leaves;
-    }
+  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
+    ++stats.leaf_nodes;
+    if (tree.isNodeOccupied(*it)) ++stats.occupied_leaves;
+    else ++stats.free_leaves;
   }
   if (!tree.writeBinary(path)) throw InputError(path, 0, "cannot write the OctoMap file");
-  return true;
+  return stats;
 }
-#else
-bool WriteOctomap(const std::string&, const std::vector<DenseMap::PosedCloud>&, double, double, OctomapStats*) {
-  return false;
-}
-#endif
 
 }  // namespace esdslam

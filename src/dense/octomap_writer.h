@@ -1,11 +1,12 @@
 #pragma once
-// OctoMap occupancy tree of the static map, for planners: every keyframe's cloud is inserted
-// with ray casting from that keyframe's camera centre, so the space between camera and surface
-// is carved free and surfaces become occupied. Written as a binary .bt file (OctoMap's own
+// OctoMap occupancy tree of the static map, for planners: every keyframe's rays (KeyframeRays,
+// dynamic pixels left out) are inserted with ray casting from that keyframe's camera centre at
+// its current pose, so the space between camera and surface is carved free (up to a noise margin
+// before the reading) and surfaces become occupied; readings beyond
+// DenseOptions::octomap_max_range only carve free space up to that range. Resolution: DenseOptions::octomap_resolution. Written as a binary .bt file (OctoMap's own
 // format, readable by octovis and octomap::OcTree::readBinary).
 
 #include <string>
-#include <vector>
 
 #include "dense/dense_map.h"
 
@@ -15,10 +16,11 @@ struct OctomapStats {
   std::size_t leaf_nodes = 0;
   std::size_t occupied_leaves = 0;
   std::size_t free_leaves = 0;
+  std::size_t rays = 0;
 };
 
-// Returns false (and writes nothing) when the build has no OctoMap support.
-bool WriteOctomap(const std::string& path, const std::vector<DenseMap::PosedCloud>& clouds, double resolution,
-                  double max_range, OctomapStats* stats = nullptr);
+// Builds the tree from every keyframe of `map` at `poses` (resolved as DenseMap::Resolve does)
+// and writes it to `path`. Throws Error when the file cannot be written.
+OctomapStats WriteOctomap(const std::string& path, const DenseMap& map, const KeyframePoses& poses);
 
 }  // namespace esdslam

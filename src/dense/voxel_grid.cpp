@@ -19,25 +19,25 @@ VoxelGrid::VoxelGrid(double voxel_size) : voxel_size_(voxel_size) {
   if (!(voxel_size > 0)) throw Error("VoxelGrid: voxel size must be positive");
 }
 
-std::uint64_t VoxelGrid::Key(const Eigen::Vector3f& point) const {
+std::uint64_t VoxelKey(const Eigen::Vector3f& point, double voxel_size) {
   std::uint64_t key = 0;
   for (int axis = 0; axis < 3; ++axis) {
-    const auto index = static_cast<std::int64_t>(std::floor(point[axis] / voxel_size_)) + kAxisOffset;
+    const auto index = static_cast<std::int64_t>(std::floor(point[axis] / voxel_size)) + kAxisOffset;
     key = (key << 21) | (static_cast<std::uint64_t>(std::clamp<std::int64_t>(index, 0, kAxisMask)) & kAxisMask);
   }
   return key;
 }
 
-void VoxelGrid::Insert(const Eigen::Vector3f& point, const Rgb8& color) {
-  if (!point.allFinite()) return;
-  Accumulator& acc = voxels_[Key(point)];
-  acc.x += point.x();
-  acc.y += point.y();
-  acc.z += point.z();
-  acc.r += color.r;
-  acc.g += color.g;
-  acc.b += color.b;
-  ++acc.count;
+void VoxelGrid::Insert(const Eigen::Vector3f& point, const Rgb8& color, float weight) {
+  if (!point.allFinite() || !(weight > 0)) return;
+  Accumulator& acc = voxels_[VoxelKey(point, voxel_size_)];
+  acc.x += weight * point.x();
+  acc.y += weight * point.y();
+  acc.z += weight * point.z();
+  acc.r += weight * color.r;
+  acc.g += weight * color.g;
+  acc.b += weight * color.b;
+  acc.weight += weight;
 }
 
 void VoxelGrid::Insert(const PointCloud& cloud) {
@@ -53,10 +53,10 @@ PointCloud VoxelGrid::Extract() const {
   cloud.reserve(keys.size());
   for (const std::uint64_t key : keys) {
     const Accumulator& acc = voxels_.at(key);
-    const double n = acc.count;
+    const double n = acc.weight;
+    const auto channel = [n](double sum) { return static_cast<std::uint8_t>(std::clamp(std::lround(sum / n), 0L, 255L)); };
     cloud.push_back(Eigen::Vector3f(static_cast<float>(acc.x / n), static_cast<float>(acc.y / n), static_cast<float>(acc.z / n)),
-                    Rgb8{static_cast<std::uint8_t>(acc.r / acc.count), static_cast<std::uint8_t>(acc.g / acc.count),
-                         static_cast<std::uint8_t>(acc.b / acc.count)});
+                    Rgb8{channel(acc.r), channel(acc.g), channel(acc.b)});
   }
   return cloud;
 }

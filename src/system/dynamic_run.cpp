@@ -33,8 +33,14 @@ DynamicRun::DynamicRun(const RunSettings& settings, const SlamOptions& slam_opti
     slam.frame.mask_extraction = options_.mask_extraction;
   }
   system_ = std::make_unique<SlamSystem>(settings_.core, slam);
-  if (options_.dense)
-    dense_ = std::make_unique<DenseMapper>(PinholeCamera(settings_.core.camera), settings_.dense, options_.threaded_dense);
+  if (options_.dense) {
+    dense_poses_ = std::make_unique<SlamKeyframePoses>(&system_->map());
+    DenseMapperOptions dense_options;
+    dense_options.threaded = options_.threaded_dense;
+    dense_options.mask_dir = options_.dense_mask_dir;
+    dense_ = std::make_unique<DenseMapper>(PinholeCamera(settings_.core.camera), settings_.dense,
+                                           [poses = dense_poses_.get()] { return poses->Poses(); }, dense_options);
+  }
   if (!options_.debug_frames_dir.empty()) std::filesystem::create_directories(options_.debug_frames_dir);
 }
 
@@ -75,17 +81,15 @@ FrameStep DynamicRun::Step(std::size_t i) {
     if (step.outcome.has_pose) pose = step.outcome.world_from_cam;
     semantic_->RecordPose(static_cast<std::int64_t>(i), images.depth_m, pose);
   }
-  if (step.outcome.new_keyframe) AddDenseKeyframe(i, images, step.mask.mask);
+  if (step.outcome.new_keyframe) AddDenseKeyframe(i, images, step.mask.mask, step.outcome.keyframe);
   if (!options_.debug_frames_dir.empty()) WriteDebugFrame(step, images);
   return step;
 }
 
-void DynamicRun::AddDenseKeyframe(std::size_t i, const RgbdImages& images, const cv::Mat& mask) {
-  if (!dense_) return;
-  const cv::Mat final_mask = mask.empty() ? cv::Mat::zeros(images.depth_m.size(), CV_8U) : mask;
-  dense_->AddKeyframe(static_cast<long>(i), images.bgr, images.depth_m, final_mask);
-  dense_timestamps_[static_cast<long>(i)] = frames_[i].timestamp;
-  keyframe_masks_[static_cast<long>(i)] = final_mask;
+void DynamicRun::AddDenseKeyframe(std::size_t i, const RgbdImages& images, const cv::Mat& mask, KeyFrame* keyframe) {
+  if (!dense_ || keyframe == nullptr) return;
+  dense_poses_->Register(keyframe);
+  dense_->AddKeyframe({keyframe->id(), frames_[i].timestamp, keyframe->world_from_cam(), images.bgr, images.depth_m, mask});
 }
 
 void DynamicRun::WriteDebugFrame(const FrameStep& step, const RgbdImages& images) const {
@@ -111,25 +115,16 @@ void DynamicRun::Finish(const std::string& out_dir) {
   system_->Shutdown();
   if (!dense_) return;
   dense_->Finish();
-  // Final poses of the live keyframes; culled keyframes are removed from the dense map.
-  std::map<double, Rigid3> live;
-  for (const StampedPose& pose : system_->KeyFrameTrajectory()) live[pose.timestamp] = pose.world_from_cam;
-  std::map<long, Rigid3> world_from_keyframe;
-  const std::string masks_dir = out_dir + "/masks";
-  std::filesystem::create_directories(masks_dir);
-  for (const auto& [id, timestamp] : dense_timestamps_) {
-    const auto it = live.find(timestamp);
-    if (it == live.end()) {
-      dense_->RemoveKeyframe(id);
-      continue;
-    }
-    world_from_keyframe[id] = it->second;
-    const std::string path = fmt::format("{}/{:.6f}.png", masks_dir, timestamp);
-    if (!cv::imwrite(path, keyframe_masks_.at(id))) throw Error("cannot write " + path);
-  }
-  const DenseOutputSummary summary = WriteDenseOutputs(dense_->map(), world_from_keyframe, out_dir);
-  spdlog::info("dense: {} points from {} keyframes, {} occupied octomap leaves, build {:.0f} ms", summary.points,
-               summary.keyframes, summary.occupied_leaves, summary.build_ms);
+  const DenseOutputSummary summary = dense_->WriteOutputs(out_dir);
+  WriteTumTrajectory(out_dir + "/dense_keyframes.txt", dense_->map().StampedPoses(dense_->CurrentPoses()));
+  const DenseMapperStats stats = dense_->stats();
+  spdlog::info("dense: {} points from {} keyframes, {} occupied octomap leaves, final build {:.0f} ms "
+               "(cloud {:.0f}, octomap {:.0f}); per keyframe {:.1f} ms (max {:.1f}, reading poses {:.1f}; CPU {:.1f}) on the dense "
+               "thread, {} re-indexings ({:.1f} M points); hand-off {:.3f} ms (max {:.3f}); map {:.1f} MB + rays {:.1f} MB",
+               summary.points, summary.keyframes, summary.occupied_leaves, summary.build_ms, summary.cloud_ms,
+               summary.octomap_ms, stats.mean_keyframe_ms, stats.max_keyframe_ms, stats.mean_pose_ms, stats.mean_keyframe_cpu_ms,
+               stats.map.reindexed_anchors, stats.map.reindexed_points / 1e6, stats.mean_handoff_ms, stats.max_handoff_ms, stats.map.point_bytes / 1e6,
+               stats.map.ray_bytes / 1e6);
 }
 
 }  // namespace esdslam

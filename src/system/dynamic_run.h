@@ -15,6 +15,7 @@
 #include <opencv2/core.hpp>
 
 #include "dense/dense_mapper.h"
+#include "dense/slam_keyframe_poses.h"
 #include "io/tum_sequence.h"
 #include "system/run_settings.h"
 #include "system/semantic_front_end.h"
@@ -30,6 +31,7 @@ struct DynamicRunOptions {
   DynamicMode mode = DynamicMode::kSemantic;
   bool realtime = false;         // newest-wins segmentation (overrides Semantic.realtime)
   bool dense = false;            // dense map of the keyframes, written by Finish
+  std::string dense_mask_dir;    // with dense: each keyframe's dynamic mask saved as <timestamp>.png; empty = not saved
   std::string debug_frames_dir;  // per-frame PNG with kept/removed keypoints; empty = off
   bool threaded_dense = true;
   // Give the extractor the static area only (its budget is not spent on movers). Off: keypoints
@@ -54,15 +56,18 @@ class DynamicRun {
 
   FrameStep Step(std::size_t i);  // i must advance by one from 0
   // Stops the threads; with dense, writes dir/dense.ply, octomap.bt, dense_top.png,
-  // dense_view.png from the live keyframes' final poses and dir/masks/<timestamp>.png.
+  // dense_view.png and dense_keyframes.txt (every dense keyframe, culled ones included) at the
+  // keyframes' final poses.
   void Finish(const std::string& out_dir);
 
   SlamSystem& system() { return *system_; }
+  // Null without dense. Thread-safe on-demand builds at the current keyframe poses.
+  const DenseMapper* dense() const { return dense_.get(); }
   const SemanticFrontEnd* semantic() const { return semantic_.get(); }
 
  private:
   RgbdImages Load(std::size_t i, double* load_ms);
-  void AddDenseKeyframe(std::size_t i, const RgbdImages& images, const cv::Mat& mask);
+  void AddDenseKeyframe(std::size_t i, const RgbdImages& images, const cv::Mat& mask, KeyFrame* keyframe);
   void WriteDebugFrame(const FrameStep& step, const RgbdImages& images) const;
 
   RunSettings settings_;
@@ -70,10 +75,9 @@ class DynamicRun {
   const std::vector<FrameEntry>& frames_;
   std::unique_ptr<SemanticFrontEnd> semantic_;
   std::unique_ptr<SlamSystem> system_;
+  std::unique_ptr<SlamKeyframePoses> dense_poses_;  // before dense_: its worker reads them
   std::unique_ptr<DenseMapper> dense_;
   std::optional<std::pair<std::size_t, RgbdImages>> next_;  // frame loaded (and submitted) ahead
-  std::map<long, double> dense_timestamps_;  // dense keyframe id (frame index) -> timestamp
-  std::map<long, cv::Mat> keyframe_masks_;   // by frame index, saved by Finish
   bool finished_ = false;
 };
 

@@ -69,6 +69,7 @@ TrackOutcome SlamSystem::TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, d
   outcome.state = result.state;
   outcome.has_pose = result.has_pose;
   outcome.new_keyframe = result.new_keyframe != nullptr;
+  outcome.keyframe = result.new_keyframe;
   outcome.inliers = result.inliers;
   FrameRecord record{timestamp, nullptr, Rigid3()};
   if (result.has_pose) {

@@ -44,6 +44,7 @@ struct TrackOutcome {
   bool has_pose = false;
   Rigid3 world_from_cam;  // valid when has_pose
   bool new_keyframe = false;
+  KeyFrame* keyframe = nullptr;  // the new keyframe when new_keyframe (owned by the map, never freed before it)
   int inliers = 0;
   double extract_ms = 0;  // Frame construction (ORB extraction, undistortion, depth lookup)
   double track_ms = 0;    // tracking step, plus local mapping in single-thread mode

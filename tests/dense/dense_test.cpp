@@ -7,15 +7,14 @@
 
 #include "dense/cloud_io.h"
 #include "dense/dense_map.h"
+#include "dense/dense_mapper.h"
 #include "dense/depth_backprojector.h"
 #include "dense/map_render.h"
 #include "dense/octomap_writer.h"
 #include "dense/outlier_filter.h"
 #include "dense/voxel_grid.h"
 
-#ifdef ESDSLAM_HAVE_OCTOMAP
 #include <octomap/OcTree.h>
-#endif
 
 namespace esdslam {
 namespace {
@@ -113,37 +112,69 @@ TEST(CloudIo, PlyRoundTrip) {
   EXPECT_EQ(back.colors[1].g, 128);
 }
 
+// A keyframe 2.025 m (mid OctoMap cell) in front of a fronto-parallel wall, grey.
+DenseKeyframe WallKeyframe(long id, const Rigid3& world_from_cam) {
+  DenseKeyframe keyframe;
+  keyframe.id = id;
+  keyframe.timestamp = id;
+  keyframe.world_from_cam = world_from_cam;
+  keyframe.bgr = cv::Mat(480, 640, CV_8UC3, cv::Scalar::all(128));
+  keyframe.depth_m = cv::Mat(480, 640, CV_32F, cv::Scalar(2.025f));
+  return keyframe;
+}
+
+Eigen::Vector3f Mean(const PointCloud& cloud) {
+  Eigen::Vector3f mean = Eigen::Vector3f::Zero();
+  for (const auto& p : cloud.points) mean += p / static_cast<float>(cloud.size());
+  return mean;
+}
+
 TEST(DenseMap, GlobalCloudFollowsKeyframePoses) {
   DenseOptions options;
   options.outlier_removal = false;
-  DenseMap map(options);
-  PointCloud local;
-  local.push_back({0.f, 0.f, 1.f}, {});
-  map.SetKeyframeCloud(7, local);
-  std::map<long, Rigid3> poses{{7, Rigid3(Quat::Identity(), Vec3(1, 0, 0))}};
-  PointCloud global = map.BuildGlobalCloud(poses);
-  ASSERT_EQ(global.size(), 1u);
-  EXPECT_NEAR(global.points[0].x(), 1.0f, 0.01f);
-  poses[7] = Rigid3(Quat::Identity(), Vec3(0, 2, 0));  // e.g. after loop closure
-  global = map.BuildGlobalCloud(poses);
-  EXPECT_NEAR(global.points[0].y(), 2.0f, 0.01f);
+  options.pixel_stride = 4;
+  DenseMap map(PinholeCamera(TestIntrinsics()), options);
+  map.Integrate(WallKeyframe(7, Rigid3(Quat::Identity(), Vec3(1, 0, 0))), {});
+  PointCloud global = map.BuildGlobalCloud({});  // hand-off pose
+  ASSERT_GT(global.size(), 1000u);
+  EXPECT_NEAR(Mean(global).x(), 1.0f, 0.01f);
+  EXPECT_NEAR(Mean(global).z(), 2.025f, 0.01f);
+  global = map.BuildGlobalCloud({{7, Rigid3(Quat::Identity(), Vec3(0, 2, 0))}});  // e.g. after loop closure
+  EXPECT_NEAR(Mean(global).x(), 0.0f, 0.01f);
+  EXPECT_NEAR(Mean(global).y(), 2.0f, 0.01f);
+  const DenseMapStats stats = map.stats();
+  EXPECT_EQ(stats.keyframes, 1u);
+  EXPECT_GT(stats.ray_bytes, 0u);
+  EXPECT_GT(stats.point_bytes, stats.points * 24);
 }
 
-#ifdef ESDSLAM_HAVE_OCTOMAP
+TEST(DenseMap, DynamicPixelsLeaveNoPointsAndNoRays) {
+  DenseOptions options;
+  options.outlier_removal = false;
+  options.mask_dilation_px = 0;
+  DenseMap map(PinholeCamera(TestIntrinsics()), options);
+  DenseKeyframe keyframe = WallKeyframe(1, Rigid3());
+  keyframe.dynamic_mask = cv::Mat::zeros(480, 640, CV_8U);
+  keyframe.dynamic_mask(cv::Rect(0, 0, 320, 480)).setTo(255);  // left half: a person
+  map.Integrate(keyframe, {});
+  for (const auto& p : map.BuildGlobalCloud({}).points) EXPECT_GT(p.x(), 0.0f);
+  const std::vector<PosedRays> rays = map.RaysAt({});
+  ASSERT_EQ(rays.size(), 1u);
+  for (const Eigen::Vector3f& end : map.RayEndpoints(rays[0].rays)) EXPECT_GT(end.x(), 0.0f);
+}
+
 TEST(Octomap, WallOccupiedAndSpaceInFrontFree) {
-  // A wall 2 m in front of a camera at the origin, seen from one keyframe.
-  PointCloud wall;
-  for (float x = -0.5f; x <= 0.5f; x += 0.02f)
-    for (float y = -0.5f; y <= 0.5f; y += 0.02f) wall.push_back({x, y, 2.0f}, {});
-  std::vector<DenseMap::PosedCloud> clouds{{Vec3::Zero(), wall}};
+  DenseOptions options;
+  DenseMap map(PinholeCamera(TestIntrinsics()), options);
+  map.Integrate(WallKeyframe(0, Rigid3()), {});
   const std::string path = (std::filesystem::temp_directory_path() / "esdslam_test.bt").string();
-  OctomapStats stats;
-  ASSERT_TRUE(WriteOctomap(path, clouds, 0.05, 4.0, &stats));
+  const OctomapStats stats = WriteOctomap(path, map, {});
   EXPECT_GT(stats.occupied_leaves, 0u);
+  EXPECT_GT(stats.free_leaves, stats.occupied_leaves);
   octomap::OcTree tree(0.1);
   ASSERT_TRUE(tree.readBinary(path));  // OctoMap's own reader
-  EXPECT_DOUBLE_EQ(tree.getResolution(), 0.05);
-  const octomap::OcTreeNode* on_wall = tree.search(0.0, 0.0, 2.0);
+  EXPECT_DOUBLE_EQ(tree.getResolution(), options.octomap_resolution);
+  const octomap::OcTreeNode* on_wall = tree.search(0.0, 0.0, 2.025);
   ASSERT_NE(on_wall, nullptr);
   EXPECT_TRUE(tree.isNodeOccupied(on_wall));
   const octomap::OcTreeNode* in_front = tree.search(0.0, 0.0, 1.0);
@@ -151,7 +182,6 @@ TEST(Octomap, WallOccupiedAndSpaceInFrontFree) {
   EXPECT_FALSE(tree.isNodeOccupied(in_front));
   EXPECT_EQ(tree.search(0.0, 0.0, 3.0), nullptr);  // behind the wall: unknown
 }
-#endif
 
 TEST(MapRender, TopViewDrawsPointsAndCameraPath) {
   PointCloud floor;
