@@ -47,8 +47,9 @@ std::vector<Cluster> FindClusters(const cv::Size& size, const std::vector<Flagge
     if (roi.contains(pixel)) ++clusters[labels.at<int>(pixel - roi.tl())].consistent;
   }
   for (int label = 1; label < num_labels; ++label)
-    clusters[label].box = cv::Rect(stats.at<int>(label, cv::CC_STAT_LEFT) + roi.x, stats.at<int>(label, cv::CC_STAT_TOP) + roi.y,
-                                   stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
+    clusters[label].box = cv::Rect(stats.at<int>(label, cv::CC_STAT_LEFT) + roi.x,
+                                   stats.at<int>(label, cv::CC_STAT_TOP) + roi.y, stats.at<int>(label, cv::CC_STAT_WIDTH),
+                                   stats.at<int>(label, cv::CC_STAT_HEIGHT));
   clusters.erase(clusters.begin());  // label 0: outside every disc
   return clusters;
 }
@@ -108,7 +109,8 @@ cv::Mat MaskFromFlags(const PinholeCamera& camera, const cv::Mat& depth_m, const
   for (const Cluster& cluster : clusters) {
     if (cluster.radius_px == 0) continue;
     const int r = cluster.radius_px;
-    const cv::Rect box = cv::Rect(cluster.box.x - r, cluster.box.y - r, cluster.box.width + 2 * r, cluster.box.height + 2 * r) & image;
+    const cv::Rect box =
+        cv::Rect(cluster.box.x - r, cluster.box.y - r, cluster.box.width + 2 * r, cluster.box.height + 2 * r) & image;
     GrowDepthRegion(depth_m, cluster.seeds, box, cluster.median_depth_m, options.growing, mask, allowed);
   }
   return mask;

@@ -107,8 +107,8 @@ PointOutcome TestPoint(const CurrentView& view, const std::vector<ReferenceKeyfr
   if (!view.exempt.empty() && view.exempt.at<std::uint8_t>(pixel)) return PointOutcome::kExempt;
   // The occluder lies on the same viewing ray, at the measured depth.
   const Vec3 occluder = view.world_from_cam * view.camera.Backproject(projected, measured);
-  return OccluderIsStatic(view.camera, keyframes, occluder, view.window.radius(), options) ? PointOutcome::kStaticOcclusion
-                                                                     : PointOutcome::kCovered;
+  const bool static_occlusion = OccluderIsStatic(view.camera, keyframes, occluder, view.window.radius(), options);
+  return static_occlusion ? PointOutcome::kStaticOcclusion : PointOutcome::kCovered;
 }
 
 void TestKeyframePoints(const CurrentView& view, const std::vector<ReferenceKeyframe>& keyframes, int k,
@@ -162,8 +162,9 @@ GeometryCheckResult CheckMultiViewGeometry(const PinholeCamera& camera, const Ri
   result.outcomes.resize(keyframes.size());
   for (std::size_t k = 0; k < keyframes.size(); ++k)
     result.outcomes[k].assign(keyframes[k].points_world.size(), PointOutcome::kUntested);
+  const double motion_px = std::max(0.0, image_motion_px);
   result.window_radius_px =
-      options.window_radius_px + static_cast<int>(std::ceil(options.motion_window_fraction * std::max(0.0, image_motion_px)));
+      options.window_radius_px + static_cast<int>(std::ceil(options.motion_window_fraction * motion_px));
   if (result.window_radius_px > options.max_window_radius_px) {
     result.skipped_fast_motion = true;
     result.dynamic_mask = cv::Mat::zeros(depth_m.size(), CV_8U);

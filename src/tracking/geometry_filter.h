@@ -5,7 +5,11 @@
 //   1. reference keyframes: the (up to 5) live keyframes that observe the most map points
 //      matched in the frame (covisibility with the frame);
 //   2. their keypoints with depth (not dynamic), lifted to the world with the keyframes' current
-//      poses, are checked against the frame's depth image (dynamic/geometry_check.h); the
+//      poses, are checked against the frame's depth image (dynamic/geometry_check.h). The
+//      keyframe's own measurement, not the map point's position, is compared: the check asks
+//      what changed since that keyframe was taken, and a map point's position blends views from
+//      different times (and most keypoints with depth have no map point); the difference for
+//      static points, the depth noise, is far below the threshold. The
 //      keyframes' depth images kept here (reduced, bounded: dynamic/keyframe_depth_store.h) veto
 //      occlusions caused by the viewpoint change;
 //   3. keypoints on the mask grown from the flags (outside Frame::geometry_exempt: trusted static
