@@ -56,6 +56,7 @@ struct FrameTiming {
   // Region growing alone (part of mask_ms); geometry check (part of track_ms), the keypoints it
   // marked dynamic and the map points it culled.
   double grow_ms = 0, geometry_ms = 0;
+  double grow_cpu_ms = 0, geometry_cpu_ms = 0;  // the same as thread CPU time (shared machines)
   int geometry_keypoints = 0, geometry_culled = 0;
   int geometry_covered = 0, geometry_window_px = 0;  // covered reference points; depth window (-1: skipped)
 };
@@ -76,13 +77,14 @@ void WriteTiming(const std::string& path, const std::vector<FrameTiming>& timing
   if (!out) throw Error("cannot write " + path);
   out << "timestamp,load_ms,extract_ms,track_ms,state,lost,seg_latency_ms,seg_wait_ms,mask_ms,label_age,"
          "dynamic_fraction,keypoints,dynamic_keypoints,grow_ms,geometry_ms,geometry_keypoints,geometry_culled,"
-         "geometry_covered,geometry_window_px\n";
+         "geometry_covered,geometry_window_px,grow_cpu_ms,geometry_cpu_ms\n";
   for (const FrameTiming& t : timings)
-    out << fmt::format("{:.6f},{:.3f},{:.3f},{:.3f},{},{},{:.3f},{:.3f},{:.3f},{},{:.4f},{},{},{:.3f},{:.3f},{},{},{},{}\n",
+    out << fmt::format("{:.6f},{:.3f},{:.3f},{:.3f},{},{},{:.3f},{:.3f},{:.3f},{},{:.4f},{},{},{:.3f},{:.3f},{},{},{},{},{:.3f},"
+                       "{:.3f}\n",
                        t.timestamp, t.load_ms, t.extract_ms, t.track_ms, ToString(t.state), t.has_pose ? 0 : 1,
                        t.seg_latency_ms, t.seg_wait_ms, t.mask_ms, t.label_age, t.dynamic_fraction, t.keypoints,
                        t.dynamic_keypoints, t.grow_ms, t.geometry_ms, t.geometry_keypoints, t.geometry_culled,
-                       t.geometry_covered, t.geometry_window_px);
+                       t.geometry_covered, t.geometry_window_px, t.grow_cpu_ms, t.geometry_cpu_ms);
 }
 
 struct StageStats {
@@ -98,13 +100,14 @@ StageStats Stats(std::vector<double> values) {
 }
 
 void PrintSummary(const std::vector<FrameTiming>& timings, int total_frames, const SlamSystem& system) {
-  std::vector<double> load, extract, track, seg_latency, seg_wait, mask, grow, geometry, dynamic;
+  std::vector<double> load, extract, track, seg_latency, seg_wait, mask, grow, geometry, dynamic, dynamic_cpu;
   int tracked = 0;
   long culled = 0;
   for (const FrameTiming& t : timings) {
     load.push_back(t.load_ms), extract.push_back(t.extract_ms), track.push_back(t.track_ms);
     seg_latency.push_back(t.seg_latency_ms), seg_wait.push_back(t.seg_wait_ms), mask.push_back(t.mask_ms);
     grow.push_back(t.grow_ms), geometry.push_back(t.geometry_ms), dynamic.push_back(t.grow_ms + t.geometry_ms);
+    dynamic_cpu.push_back(t.grow_cpu_ms + t.geometry_cpu_ms);
     tracked += t.has_pose;
     culled += t.geometry_culled;
   }
@@ -120,6 +123,7 @@ void PrintSummary(const std::vector<FrameTiming>& timings, int total_frames, con
   print("grow", Stats(grow));
   print("geometry", Stats(geometry));
   print("grow+geo", Stats(dynamic));
+  print("(cpu)", Stats(dynamic_cpu));
   std::printf("frames_tracked %d / %d (processed %zu)\n", tracked, total_frames, timings.size());
   std::printf("points_culled_by_geometry %ld\n", culled);
   std::printf("keyframes %d\nmap_points %d\n", system.num_keyframes(), system.num_map_points());
@@ -171,6 +175,7 @@ void CopyStep(const FrameStep& step, FrameTiming& t) {
   t.grow_ms = step.mask.grow_ms, t.geometry_ms = step.outcome.geometry_ms;
   t.geometry_keypoints = step.geometry_keypoints, t.geometry_culled = step.outcome.geometry_culled;
   t.geometry_covered = step.outcome.geometry_covered, t.geometry_window_px = step.outcome.geometry_window_px;
+  t.grow_cpu_ms = step.mask.grow_cpu_ms, t.geometry_cpu_ms = step.outcome.geometry_cpu_ms;
 }
 
 int Run(const RunArgs& args) {

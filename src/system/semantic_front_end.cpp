@@ -102,8 +102,10 @@ DynamicMaskResult SemanticFrontEnd::MaskFor(std::int64_t id, const cv::Mat& dept
     out.warped = true;
   }
   Stopwatch grow;
+  ThreadCpuStopwatch grow_cpu;
   cv::Mat refined = RefineDynamicMask(masks.dynamic, depth_m, growing_);
   out.grow_ms = grow.ElapsedMs();
+  out.grow_cpu_ms = grow_cpu.ElapsedMs();
   out.mask = Dilate(KeepMaskCore(refined, masks.dynamic), mask_dilation_px_);
   out.potentially_dynamic = masks.potentially_dynamic;
   out.static_objects = masks.static_objects;

@@ -41,6 +41,7 @@ struct DynamicMaskResult {
   double latency_ms = 0;           // submit -> result of the source frame
   double refine_ms = 0;            // class masks + warp + region growing + dilation
   double grow_ms = 0;              // region growing alone (RefineDynamicMask)
+  double grow_cpu_ms = 0;          // the same, CPU time of the calling thread
   double dynamic_fraction = 0;     // of the image area
 };
 

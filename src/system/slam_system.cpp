@@ -74,6 +74,7 @@ TrackOutcome SlamSystem::TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, d
   if (geometry_filter_) {
     const GeometryFilterStats& geometry = geometry_filter_->last();
     outcome.geometry_ms = geometry.check_ms;
+    outcome.geometry_cpu_ms = geometry.check_cpu_ms;
     outcome.geometry_keypoints = geometry.flagged_keypoints;
     outcome.geometry_culled = geometry.points_culled;
     outcome.geometry_covered = geometry.covered;

@@ -51,6 +51,7 @@ struct TrackOutcome {
   double extract_ms = 0;  // Frame construction (ORB extraction, undistortion, depth lookup)
   double track_ms = 0;    // tracking step, plus local mapping in single-thread mode
   double geometry_ms = 0; // part of track_ms: the geometry check (0 when off or not run)
+  double geometry_cpu_ms = 0;  // the same, CPU time
   int geometry_keypoints = 0;  // keypoints the geometry check marked dynamic
   int geometry_culled = 0;     // map points it culled as moved
   int geometry_covered = 0;    // reference points it found covered (before clustering)

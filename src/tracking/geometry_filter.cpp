@@ -30,6 +30,7 @@ GeometryFilter::GeometryFilter(const GeometryFilterOptions& options)
 
 int GeometryFilter::Apply(Frame* frame) {
   Stopwatch watch;
+  ThreadCpuStopwatch cpu;
   last_ = {};
   last_.image_motion_px = ImageMotionSinceLastFrame(*frame);
   last_frame_id_ = frame->id();
@@ -53,6 +54,7 @@ int GeometryFilter::Apply(Frame* frame) {
   VoteReferencePoints(keyframes, keypoints, result);
   CullMovedPoints(frame);
   last_.check_ms = watch.ElapsedMs();
+  last_.check_cpu_ms = cpu.ElapsedMs();
   return removed;
 }
 

@@ -48,7 +48,8 @@ struct GeometryFilterOptions {
 
 struct GeometryFilterStats {
   bool ran = false;           // the check ran on this frame (it had a pose and reference keyframes)
-  double check_ms = 0;        // selection, check, flagging, voting and culling
+  double check_ms = 0;        // selection, check, flagging, voting and culling (wall time)
+  double check_cpu_ms = 0;    // the same, CPU time of the tracking thread
   int reference_keyframes = 0;
   int tested = 0, covered = 0, vanished = 0;  // reference points (GeometryCheckResult)
   double image_motion_px = 0;  // since the previous frame (from the poses), sizes the depth window
