@@ -1,4 +1,4 @@
-// `esdslam run --settings FILE --sequence DIR --out DIR [--mode none|semantic]`: runs the SLAM
+// `esdslam run --settings FILE --sequence DIR --out DIR [--mode none|semantic|geometry|full]`: runs the SLAM
 // system over a TUM-layout RGB-D sequence and writes trajectory.txt, keyframes.txt, timing.csv and
 // settings_used.yaml (every stage's keys); with --dense also the dense map (system/dynamic_run.h).
 #include <algorithm>
@@ -32,7 +32,7 @@ struct RunArgs {
   int max_frames = 0;
   bool single_thread = false;
   unsigned seed = 0;
-  std::string mode = "semantic";
+  std::string mode = "full";
   bool realtime = false;
   bool dense = false;
   std::string debug_frames_dir;
@@ -53,6 +53,12 @@ struct FrameTiming {
   long label_age = -1;
   double dynamic_fraction = 0;
   int keypoints = 0, dynamic_keypoints = 0;
+  // Region growing alone (part of mask_ms); geometry check (part of track_ms), the keypoints it
+  // marked dynamic and the map points it culled.
+  double grow_ms = 0, geometry_ms = 0;
+  double grow_cpu_ms = 0, geometry_cpu_ms = 0;  // the same as thread CPU time (shared machines)
+  int geometry_keypoints = 0, geometry_culled = 0;
+  int geometry_covered = 0, geometry_window_px = 0;  // covered reference points; depth window (-1: skipped)
 };
 
 void LogSettings(const Settings& s, const RunArgs& args) {
@@ -70,11 +76,15 @@ void WriteTiming(const std::string& path, const std::vector<FrameTiming>& timing
   std::ofstream out(path);
   if (!out) throw Error("cannot write " + path);
   out << "timestamp,load_ms,extract_ms,track_ms,state,lost,seg_latency_ms,seg_wait_ms,mask_ms,label_age,"
-         "dynamic_fraction,keypoints,dynamic_keypoints\n";
+         "dynamic_fraction,keypoints,dynamic_keypoints,grow_ms,geometry_ms,geometry_keypoints,geometry_culled,"
+         "geometry_covered,geometry_window_px,grow_cpu_ms,geometry_cpu_ms\n";
   for (const FrameTiming& t : timings)
-    out << fmt::format("{:.6f},{:.3f},{:.3f},{:.3f},{},{},{:.3f},{:.3f},{:.3f},{},{:.4f},{},{}\n", t.timestamp,
-                       t.load_ms, t.extract_ms, t.track_ms, ToString(t.state), t.has_pose ? 0 : 1, t.seg_latency_ms,
-                       t.seg_wait_ms, t.mask_ms, t.label_age, t.dynamic_fraction, t.keypoints, t.dynamic_keypoints);
+    out << fmt::format("{:.6f},{:.3f},{:.3f},{:.3f},{},{},{:.3f},{:.3f},{:.3f},{},{:.4f},{},{},{:.3f},{:.3f},{},{},{},{},{:.3f},"
+                       "{:.3f}\n",
+                       t.timestamp, t.load_ms, t.extract_ms, t.track_ms, ToString(t.state), t.has_pose ? 0 : 1,
+                       t.seg_latency_ms, t.seg_wait_ms, t.mask_ms, t.label_age, t.dynamic_fraction, t.keypoints,
+                       t.dynamic_keypoints, t.grow_ms, t.geometry_ms, t.geometry_keypoints, t.geometry_culled,
+                       t.geometry_covered, t.geometry_window_px, t.grow_cpu_ms, t.geometry_cpu_ms);
 }
 
 struct StageStats {
@@ -90,12 +100,16 @@ StageStats Stats(std::vector<double> values) {
 }
 
 void PrintSummary(const std::vector<FrameTiming>& timings, int total_frames, const SlamSystem& system) {
-  std::vector<double> load, extract, track, seg_latency, seg_wait, mask;
+  std::vector<double> load, extract, track, seg_latency, seg_wait, mask, grow, geometry, dynamic, dynamic_cpu;
   int tracked = 0;
+  long culled = 0;
   for (const FrameTiming& t : timings) {
     load.push_back(t.load_ms), extract.push_back(t.extract_ms), track.push_back(t.track_ms);
     seg_latency.push_back(t.seg_latency_ms), seg_wait.push_back(t.seg_wait_ms), mask.push_back(t.mask_ms);
+    grow.push_back(t.grow_ms), geometry.push_back(t.geometry_ms), dynamic.push_back(t.grow_ms + t.geometry_ms);
+    dynamic_cpu.push_back(t.grow_cpu_ms + t.geometry_cpu_ms);
     tracked += t.has_pose;
+    culled += t.geometry_culled;
   }
   const auto print = [](const char* name, const StageStats& s) {
     std::printf("%-8s mean %7.2f ms  median %7.2f ms\n", name, s.mean, s.median);
@@ -106,7 +120,12 @@ void PrintSummary(const std::vector<FrameTiming>& timings, int total_frames, con
   print("seg_lat", Stats(seg_latency));
   print("seg_wait", Stats(seg_wait));
   print("mask", Stats(mask));
+  print("grow", Stats(grow));
+  print("geometry", Stats(geometry));
+  print("grow+geo", Stats(dynamic));
+  print("(cpu)", Stats(dynamic_cpu));
   std::printf("frames_tracked %d / %d (processed %zu)\n", tracked, total_frames, timings.size());
+  std::printf("points_culled_by_geometry %ld\n", culled);
   std::printf("keyframes %d\nmap_points %d\n", system.num_keyframes(), system.num_map_points());
 }
 
@@ -153,6 +172,10 @@ void CopyStep(const FrameStep& step, FrameTiming& t) {
   t.seg_latency_ms = step.mask.latency_ms, t.seg_wait_ms = step.mask.wait_ms, t.mask_ms = step.mask.refine_ms;
   t.dynamic_fraction = step.mask.dynamic_fraction;
   t.keypoints = step.keypoints, t.dynamic_keypoints = step.dynamic_keypoints;
+  t.grow_ms = step.mask.grow_ms, t.geometry_ms = step.outcome.geometry_ms;
+  t.geometry_keypoints = step.geometry_keypoints, t.geometry_culled = step.outcome.geometry_culled;
+  t.geometry_covered = step.outcome.geometry_covered, t.geometry_window_px = step.outcome.geometry_window_px;
+  t.grow_cpu_ms = step.mask.grow_cpu_ms, t.geometry_cpu_ms = step.outcome.geometry_cpu_ms;
 }
 
 int Run(const RunArgs& args) {
@@ -229,8 +252,8 @@ RunFn Setup(CLI::App& app) {
       ->needs(load_map);
   app.add_option("--mode", args->mode,
                  "Dynamic-object handling: none (plain ORB-SLAM2 RGB-D) | semantic (segmentation + depth region "
-                 "growing masks)")
-      ->check(CLI::IsMember({"none", "semantic"}))
+                 "growing masks) | geometry (multi-view geometry check only, no network) | full (both)")
+      ->check(CLI::IsMember({"none", "semantic", "geometry", "full"}))
       ->capture_default_str();
   app.add_flag("--realtime", args->realtime,
                "Real-time segmentation hand-off: newest finished labels, carried to the frame by the motion "
@@ -239,7 +262,8 @@ RunFn Setup(CLI::App& app) {
                "Build the static dense map of the keyframes: dense.ply, octomap.bt, dense_top.png, "
                "dense_view.png, dense_keyframes.txt and masks/<timestamp>.png in the output folder");
   app.add_option("--debug-frames", args->debug_frames_dir,
-                 "Write per-frame PNGs (kept keypoints green, removed red, mask outline) to this folder");
+                 "Write per-frame PNGs to this folder: kept keypoints green, removed by the semantic mask red, "
+                 "removed by the geometry check magenta; refined mask tinted cyan, geometry mask magenta");
   return [args] { return Run(*args); };
 }
 

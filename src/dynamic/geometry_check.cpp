@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "dynamic/depth_window.h"
+#include "dynamic/flag_mask.h"
 
 namespace esdslam {
 namespace {
@@ -14,7 +17,8 @@ double Threshold(double z, const GeometryCheckOptions& options) {
   return options.abs_threshold_m + options.depth_sq_threshold * z * z;
 }
 
-// Smallest and largest valid depth in the window around `pixel`; false if none is valid.
+// Smallest and largest valid depth in the window around `pixel` (read directly: used for the
+// few covered points only); false if none is valid.
 bool WindowDepthRange(const cv::Mat& depth_m, const cv::Point& pixel, int radius, float* near, float* far) {
   *near = std::numeric_limits<float>::infinity();
   *far = 0.f;
@@ -29,29 +33,38 @@ bool WindowDepthRange(const cv::Mat& depth_m, const cv::Point& pixel, int radius
   return *far > 0;
 }
 
-double ParallaxDeg(const Vec3& point, const Vec3& centre_a, const Vec3& centre_b) {
+// Whether the rays centre_a -> point and centre_b -> point differ by more than the angle whose
+// cosine is min_cosine.
+bool LargeParallax(const Vec3& point, const Vec3& centre_a, const Vec3& centre_b, double min_cosine) {
   const Vec3 a = point - centre_a, b = point - centre_b;
-  const double cosine = a.dot(b) / std::max(1e-12, a.norm() * b.norm());
-  return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI;
+  return a.dot(b) < min_cosine * std::sqrt(a.squaredNorm() * b.squaredNorm());
+}
+
+// The raw (sensor) pixel of an ideal projection, in an image scaled by `scale`.
+cv::Point RawPixel(const PinholeCamera& camera, const Vec2& undistorted, double scale = 1.0) {
+  const Vec2 raw = camera.intrinsics().HasDistortion() ? camera.Distort(undistorted) : undistorted;
+  return {static_cast<int>(std::lround(raw.x() * scale)), static_cast<int>(std::lround(raw.y() * scale))};
 }
 
 // Whether the current pixel's 3-D point (the occluder) was already there when the reference
 // keyframes were taken: at least one keyframe depth image confirms it (measured within tau of
 // its expected depth) and none contradicts it (measured clearly behind it: that keyframe saw
 // through the place where the occluder is now). Then the occlusion is due to the viewpoint
-// change, not to motion. Keyframes without depth or not seeing the point abstain.
+// change, not to motion. Keyframes without depth or not seeing the point abstain. The keyframe
+// depth is read over the current window (scaled): keyframes were misregistered as much.
 bool OccluderIsStatic(const PinholeCamera& camera, const std::vector<ReferenceKeyframe>& keyframes,
-                      const Vec3& occluder_world, const GeometryCheckOptions& options) {
+                      const Vec3& occluder_world, int window_radius_px, const GeometryCheckOptions& options) {
   int confirmations = 0;
   for (const ReferenceKeyframe& keyframe : keyframes) {
     if (keyframe.depth_m.empty()) continue;
     const Vec3 in_keyframe = keyframe.world_from_cam.inverse() * occluder_world;
     if (in_keyframe.z() < options.min_depth_m) continue;
-    const Vec2 projected = camera.Project(in_keyframe);
-    const cv::Point pixel(static_cast<int>(std::lround(projected.x())), static_cast<int>(std::lround(projected.y())));
+    const cv::Point pixel = RawPixel(camera, camera.Project(in_keyframe), keyframe.depth_scale);
     if (pixel.x < 0 || pixel.y < 0 || pixel.x >= keyframe.depth_m.cols || pixel.y >= keyframe.depth_m.rows) continue;
     float near, far;
-    if (!WindowDepthRange(keyframe.depth_m, pixel, options.window_radius_px, &near, &far)) continue;
+    const int radius = std::max(options.window_radius_px,
+                                static_cast<int>(std::lround(window_radius_px * keyframe.depth_scale)));
+    if (!WindowDepthRange(keyframe.depth_m, pixel, radius, &near, &far)) continue;
     const double tolerance = Threshold(in_keyframe.z(), options);
     if (near - in_keyframe.z() > tolerance) return false;  // seen through: it moved in since
     if (near - tolerance <= in_keyframe.z() && in_keyframe.z() <= far + tolerance) ++confirmations;
@@ -59,73 +72,60 @@ bool OccluderIsStatic(const PinholeCamera& camera, const std::vector<ReferenceKe
   return confirmations > 0;
 }
 
-void TestKeyframePoints(const PinholeCamera& camera, const Rigid3& cam_from_world, const cv::Mat& depth_m,
-                        const std::vector<ReferenceKeyframe>& keyframes, int k, const GeometryCheckOptions& options,
-                        GeometryCheckResult& result) {
-  const ReferenceKeyframe& keyframe = keyframes[k];
-  const Rigid3 world_from_cam = cam_from_world.inverse();
+struct CurrentView {
+  const PinholeCamera& camera;
+  Rigid3 cam_from_world, world_from_cam;
+  const cv::Mat& depth_m;
+  const DepthWindow& window;
+  const cv::Mat& exempt;
+  double min_parallax_cosine;
+};
+
+// Tests one reference point against the current depth; fills `flag` for covered / vanished.
+PointOutcome TestPoint(const CurrentView& view, const std::vector<ReferenceKeyframe>& keyframes, int k,
+                       const Vec3& point, const GeometryCheckOptions& options, FlaggedPoint* flag) {
+  const Vec3 in_cam = view.cam_from_world * point;
+  const double z_proj = in_cam.z();
+  if (z_proj < options.min_depth_m || z_proj > options.max_depth_m) return PointOutcome::kUntested;
+  const Vec2 projected = view.camera.Project(in_cam);
+  const cv::Point pixel = RawPixel(view.camera, projected);
   const int r = options.window_radius_px;
-  for (int i = 0; i < static_cast<int>(keyframe.points_world.size()); ++i) {
-    const Vec3& point = keyframe.points_world[i];
-    const Vec3 in_cam = cam_from_world * point;
-    const double z_proj = in_cam.z();
-    if (z_proj < options.min_depth_m || z_proj > options.max_depth_m) continue;
-    const Vec2 projected = camera.Project(in_cam);
-    const cv::Point pixel(static_cast<int>(std::lround(projected.x())), static_cast<int>(std::lround(projected.y())));
-    if (pixel.x < r || pixel.y < r || pixel.x >= depth_m.cols - r || pixel.y >= depth_m.rows - r) continue;
-    if (ParallaxDeg(point, keyframe.world_from_cam.translation(), world_from_cam.translation()) >
-        options.max_parallax_deg) {
-      ++result.num_parallax_skipped;
-      continue;
-    }
-    float near, far;
-    if (!WindowDepthRange(depth_m, pixel, r, &near, &far)) continue;
-    ++result.num_tested;
-    const double tau = Threshold(z_proj, options);
-    const float measured = depth_m.at<float>(pixel) > 0 ? depth_m.at<float>(pixel) : far;
-    const FlaggedPoint flag{k, i, pixel, z_proj, measured};
-    if (z_proj - far > tau) {
-      const Vec3 occluder = world_from_cam * camera.Backproject(Vec2(pixel.x, pixel.y), measured);
-      if (!OccluderIsStatic(camera, keyframes, occluder, options)) result.dynamic_points.push_back(flag);
-    } else if (near - z_proj > tau) {
-      result.vanished_points.push_back(flag);
-    }
-  }
+  if (pixel.x < r || pixel.y < r || pixel.x >= view.depth_m.cols - r || pixel.y >= view.depth_m.rows - r)
+    return PointOutcome::kUntested;
+  if (LargeParallax(point, keyframes[k].world_from_cam.translation(), view.world_from_cam.translation(),
+                    view.min_parallax_cosine))
+    return PointOutcome::kParallax;
+  float near, far;
+  if (!view.window.Range(pixel, &near, &far)) return PointOutcome::kUntested;
+  const double tau = Threshold(z_proj, options);
+  const float measured = view.depth_m.at<float>(pixel) > 0 ? view.depth_m.at<float>(pixel) : far;
+  flag->pixel = pixel;
+  flag->projected_depth_m = z_proj;
+  flag->measured_depth_m = measured;
+  if (near - z_proj > tau) return PointOutcome::kVanished;
+  if (z_proj - far <= tau) return PointOutcome::kConsistent;
+  if (!view.exempt.empty() && view.exempt.at<std::uint8_t>(pixel)) return PointOutcome::kExempt;
+  // The occluder lies on the same viewing ray, at the measured depth.
+  const Vec3 occluder = view.world_from_cam * view.camera.Backproject(projected, measured);
+  const bool static_occlusion = OccluderIsStatic(view.camera, keyframes, occluder, view.window.radius(), options);
+  return static_occlusion ? PointOutcome::kStaticOcclusion : PointOutcome::kCovered;
 }
 
-// Region growing from clusters of flagged pixels, within mask_radius_px of the cluster's flags.
-cv::Mat MaskFromFlags(const cv::Mat& depth_m, const std::vector<FlaggedPoint>& flags, const GeometryCheckOptions& options) {
-  cv::Mat mask = cv::Mat::zeros(depth_m.size(), CV_8U);
-  if (flags.empty()) return mask;
-  cv::Mat discs = cv::Mat::zeros(depth_m.size(), CV_8U);
-  for (const auto& flag : flags) cv::circle(discs, flag.pixel, options.cluster_radius_px / 2, 255, cv::FILLED);
-  cv::Mat labels, stats, centroids;
-  const int num_labels = cv::connectedComponentsWithStats(discs, labels, stats, centroids, 8, CV_32S);
-  std::vector<std::vector<cv::Point>> seeds(num_labels);
-  std::vector<std::vector<float>> depths(num_labels);
-  for (const auto& flag : flags) {
-    const int label = labels.at<int>(flag.pixel);
-    seeds[label].push_back(flag.pixel);
-    depths[label].push_back(static_cast<float>(flag.measured_depth_m));
+void TestKeyframePoints(const CurrentView& view, const std::vector<ReferenceKeyframe>& keyframes, int k,
+                        const GeometryCheckOptions& options, GeometryCheckResult& result) {
+  const std::vector<Vec3>& points = keyframes[k].points_world;
+  std::vector<PointOutcome>& outcomes = result.outcomes[k];
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+    FlaggedPoint flag{k, i, cv::Point(), 0, 0};
+    const PointOutcome outcome = TestPoint(view, keyframes, k, points[i], options, &flag);
+    outcomes[i] = outcome;
+    if (outcome == PointOutcome::kParallax) ++result.num_parallax_skipped;
+    if (outcome != PointOutcome::kUntested && outcome != PointOutcome::kParallax) ++result.num_tested;
+    if (outcome == PointOutcome::kCovered) result.dynamic_points.push_back(flag);
+    if (outcome == PointOutcome::kVanished) result.vanished_points.push_back(flag);
+    if (outcome == PointOutcome::kConsistent || outcome == PointOutcome::kStaticOcclusion)
+      result.static_pixels.push_back(flag.pixel);
   }
-  const cv::Rect image(0, 0, depth_m.cols, depth_m.rows);
-  const int radius = options.mask_radius_px;
-  cv::Mat allowed = cv::Mat::zeros(depth_m.size(), CV_8U);
-  for (int label = 1; label < num_labels; ++label) {
-    if (static_cast<int>(seeds[label].size()) < options.min_cluster_points) continue;
-    for (const auto& seed : seeds[label]) cv::circle(allowed, seed, radius, 255, cv::FILLED);
-  }
-  for (int label = 1; label < num_labels; ++label) {
-    if (static_cast<int>(seeds[label].size()) < options.min_cluster_points) continue;
-    const cv::Rect cluster(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
-                           stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
-    const cv::Rect box =
-        cv::Rect(cluster.x - radius, cluster.y - radius, cluster.width + 2 * radius, cluster.height + 2 * radius) & image;
-    auto& d = depths[label];
-    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-    GrowDepthRegion(depth_m, seeds[label], box, d[d.size() / 2], options.growing, mask, allowed);
-  }
-  return mask;
 }
 
 }  // namespace
@@ -135,21 +135,53 @@ void GeometryCheckOptions::Check() const {
   if (!(abs_threshold_m > 0) || !(depth_sq_threshold >= 0))
     throw Error("geometry check: abs_threshold_m must be > 0 and depth_sq_threshold >= 0");
   if (!(min_depth_m >= 0 && max_depth_m > min_depth_m)) throw Error("geometry check: need 0 <= min_depth_m < max_depth_m");
-  if (window_radius_px < 0 || cluster_radius_px < 1 || min_cluster_points < 1 || mask_radius_px < 1)
-    throw Error("geometry check: need window_radius_px >= 0 and cluster_radius_px, min_cluster_points, mask_radius_px >= 1");
+  if (!(motion_window_fraction >= 0) || max_window_radius_px < window_radius_px)
+    throw Error("geometry check: need motion_window_fraction >= 0 and max_window_radius_px >= window_radius_px");
+  if (window_radius_px < 0 || cluster_radius_px < 1 || min_cluster_points < 1 || max_mask_radius_px < cluster_radius_px)
+    throw Error("geometry check: need window_radius_px >= 0, cluster_radius_px and min_cluster_points >= 1 and "
+                "max_mask_radius_px >= cluster_radius_px");
+  if (!(mask_radius_m > 0)) throw Error("geometry check: mask_radius_m must be > 0");
+  if (!(min_cluster_support >= 0 && min_cluster_support <= 1))
+    throw Error("geometry check: min_cluster_support must be in [0, 1]");
   growing.Check();
 }
 
 GeometryCheckResult CheckMultiViewGeometry(const PinholeCamera& camera, const Rigid3& cam_from_world,
                                            const cv::Mat& depth_m, const std::vector<ReferenceKeyframe>& keyframes,
-                                           const GeometryCheckOptions& options) {
+                                           const GeometryCheckOptions& options, const cv::Mat& exempt,
+                                           double image_motion_px) {
   if (depth_m.type() != CV_32F || depth_m.cols != camera.width() || depth_m.rows != camera.height())
     throw Error("CheckMultiViewGeometry: depth must be CV_32F with the camera's image size");
+  if (!exempt.empty() && (exempt.type() != CV_8U || exempt.size() != depth_m.size()))
+    throw Error("CheckMultiViewGeometry: the exempt mask must be CV_8U with the depth image's size");
+  for (const ReferenceKeyframe& keyframe : keyframes) {
+    if (!keyframe.depth_m.empty() && (keyframe.depth_m.type() != CV_32F || !(keyframe.depth_scale > 0)))
+      throw Error("CheckMultiViewGeometry: keyframe depth must be CV_32F with a positive depth_scale");
+  }
   GeometryCheckResult result;
-  for (int k = 0; k < static_cast<int>(keyframes.size()); ++k)
-    TestKeyframePoints(camera, cam_from_world, depth_m, keyframes, k, options, result);
-  result.dynamic_mask = MaskFromFlags(depth_m, result.dynamic_points, options);
+  result.outcomes.resize(keyframes.size());
+  for (std::size_t k = 0; k < keyframes.size(); ++k)
+    result.outcomes[k].assign(keyframes[k].points_world.size(), PointOutcome::kUntested);
+  const double motion_px = std::max(0.0, image_motion_px);
+  result.window_radius_px =
+      options.window_radius_px + static_cast<int>(std::ceil(options.motion_window_fraction * motion_px));
+  if (result.window_radius_px > options.max_window_radius_px) {
+    result.skipped_fast_motion = true;
+    result.dynamic_mask = cv::Mat::zeros(depth_m.size(), CV_8U);
+    return result;
+  }
+  const DepthWindow window(depth_m, result.window_radius_px);
+  const CurrentView view{camera, cam_from_world, cam_from_world.inverse(), depth_m, window, exempt,
+                         std::cos(options.max_parallax_deg * M_PI / 180.0)};
+  for (int k = 0; k < static_cast<int>(keyframes.size()); ++k) TestKeyframePoints(view, keyframes, k, options, result);
+  result.dynamic_mask = MaskFromFlags(camera, depth_m, result.dynamic_points, result.static_pixels, options);
+  if (!exempt.empty()) result.dynamic_mask.setTo(0, exempt);
   return result;
+}
+
+double ImageMotionPx(const PinholeCamera& camera, const Rigid3& b_from_a, double scene_depth_m) {
+  const double angle = RotationAngle(b_from_a.rotation());
+  return camera.fx() * (angle + b_from_a.translation().norm() / std::max(scene_depth_m, 0.1));
 }
 
 }  // namespace esdslam

@@ -10,10 +10,6 @@
 namespace esdslam {
 namespace {
 
-double NeighbourTolerance(double z, const RegionGrowingOptions& options) {
-  return options.abs_tolerance_m + options.depth_sq_tolerance * z * z;
-}
-
 cv::Mat Ellipse(int radius) {
   return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
 }
@@ -99,6 +95,16 @@ cv::Mat NoDepthPart(const cv::Mat& raw_mask, const cv::Mat& depth_m, int dilatio
   return no_depth;
 }
 
+// The network mask dilated by about band_px, computed on the coarse mask (kCoarse x kCoarse
+// cells; square kernel) and enlarged to `size`: a loose bound, so cell accuracy suffices.
+cv::Mat GrowthBand(const cv::Mat& coarse_mask, const cv::Size& size, int band_px) {
+  const int cells = (band_px + kCoarse - 1) / kCoarse;
+  cv::Mat dilated, band;
+  cv::dilate(coarse_mask, dilated, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * cells + 1, 2 * cells + 1)));
+  cv::resize(dilated, band, cv::Size(), kCoarse, kCoarse, cv::INTER_NEAREST);
+  return band(cv::Rect(0, 0, size.width, size.height)).clone();  // continuous, image size
+}
+
 }  // namespace
 
 void RegionGrowingOptions::Check() const {
@@ -114,6 +120,75 @@ void RegionGrowingOptions::Check() const {
     throw Error("region growing: pixel counts must be >= 0 and connectivity 4 or 8");
 }
 
+namespace {
+
+// The growth's state: images, bounds ([x0, x1) x [y0, y1)) and thresholds.
+struct Growth {
+  const float* depth;
+  uchar* mark;
+  const uchar* allow;  // null: everywhere
+  int cols, x0, x1, y0, y1;
+  float reference, max_from_reference, abs_tolerance, sq_tolerance;
+
+  // Whether pixel i joins the region from a region neighbour of depth z_from.
+  bool Joinable(int i, float z_from) const {
+    const float z = depth[i];
+    if (mark[i] || (allow != nullptr && !allow[i]) || !(z > 0)) return false;
+    return std::abs(z - z_from) <= abs_tolerance + sq_tolerance * z_from * z_from &&
+           std::abs(z - reference) <= max_from_reference;
+  }
+};
+
+// 8-connectivity: pixel by pixel from an explicit stack.
+int GrowPixels(const Growth& g, std::vector<cv::Point>& stack) {
+  static const int kNeighbours[8][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}, {0, -1}, {0, 1}, {-1, 0}, {1, 0}};
+  int added = 0;
+  while (!stack.empty()) {
+    const cv::Point p = stack.back();
+    stack.pop_back();
+    const float z = g.depth[p.y * g.cols + p.x];
+    for (const auto& offset : kNeighbours) {
+      const int x = p.x + offset[0], y = p.y + offset[1];
+      if (x < g.x0 || x >= g.x1 || y < g.y0 || y >= g.y1 || !g.Joinable(y * g.cols + x, z)) continue;
+      g.mark[y * g.cols + x] = 255;
+      ++added;
+      stack.emplace_back(x, y);
+    }
+  }
+  return added;
+}
+
+// 4-connectivity, scanline: the same region, found run by run along rows (memory order, a few
+// times faster). A popped seed extends left and right; in the rows above and below, the first
+// pixel of every run reachable from the span becomes a seed (the rest of the run is reached when
+// that seed extends).
+int GrowRuns(const Growth& g, std::vector<cv::Point>& stack) {
+  int added = 0;
+  while (!stack.empty()) {
+    const cv::Point seed = stack.back();
+    stack.pop_back();
+    const int row = seed.y * g.cols;
+    int left = seed.x, right = seed.x;
+    for (; left - 1 >= g.x0 && g.Joinable(row + left - 1, g.depth[row + left]); --left) g.mark[row + left - 1] = 255;
+    for (; right + 1 < g.x1 && g.Joinable(row + right + 1, g.depth[row + right]); ++right) g.mark[row + right + 1] = 255;
+    added += right - left;
+    for (const int y : {seed.y - 1, seed.y + 1}) {
+      if (y < g.y0 || y >= g.y1) continue;
+      const int next = y * g.cols;
+      for (int x = left; x <= right; ++x) {
+        if (!g.Joinable(next + x, g.depth[row + x])) continue;
+        g.mark[next + x] = 255;
+        ++added;
+        stack.emplace_back(x, y);
+        while (x + 1 <= right && g.Joinable(next + x + 1, g.depth[next + x])) ++x;  // same run
+      }
+    }
+  }
+  return added;
+}
+
+}  // namespace
+
 int GrowDepthRegion(const cv::Mat& depth_m, const std::vector<cv::Point>& seeds, const cv::Rect& box,
                     double reference_depth_m, const RegionGrowingOptions& options, cv::Mat& region,
                     const cv::Mat& allowed) {
@@ -122,45 +197,21 @@ int GrowDepthRegion(const cv::Mat& depth_m, const std::vector<cv::Point>& seeds,
   const bool limited = !allowed.empty();
   CV_Assert(!limited || (allowed.type() == CV_8U && allowed.size() == depth_m.size() && allowed.isContinuous()));
   const cv::Rect inside = box & cv::Rect(0, 0, depth_m.cols, depth_m.rows);
-  const int cols = depth_m.cols;
-  const float* depth = depth_m.ptr<float>();
-  uchar* mark = region.ptr<uchar>();
-  const uchar* allow = limited ? allowed.ptr<uchar>() : nullptr;
-  const float reference = static_cast<float>(reference_depth_m);
-  const float max_from_reference = static_cast<float>(options.max_depth_from_seed_m);
+  const Growth growth{depth_m.ptr<float>(), region.ptr<uchar>(), limited ? allowed.ptr<uchar>() : nullptr,
+                      depth_m.cols, inside.x, inside.x + inside.width, inside.y, inside.y + inside.height,
+                      static_cast<float>(reference_depth_m), static_cast<float>(options.max_depth_from_seed_m),
+                      static_cast<float>(options.abs_tolerance_m), static_cast<float>(options.depth_sq_tolerance)};
   std::vector<cv::Point> stack;
-  stack.reserve(4096);
+  stack.reserve(1024);
   int added = 0;
   for (const cv::Point& seed : seeds) {
-    const int i = seed.y * cols + seed.x;
-    if (!inside.contains(seed) || mark[i] || !(depth[i] > 0)) continue;
-    mark[i] = 255;
+    const int i = seed.y * depth_m.cols + seed.x;
+    if (!inside.contains(seed) || growth.mark[i] || !(growth.depth[i] > 0)) continue;
+    growth.mark[i] = 255;
     ++added;
     stack.push_back(seed);
   }
-  const int x_end = inside.x + inside.width, y_end = inside.y + inside.height;
-  // 4-neighbours first; 8-connectivity adds the diagonals.
-  static const int kNeighbours[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
-  const int num_neighbours = options.connectivity == 8 ? 8 : 4;
-  while (!stack.empty()) {
-    const cv::Point p = stack.back();
-    stack.pop_back();
-    const float z = depth[p.y * cols + p.x];
-    const float tolerance = static_cast<float>(NeighbourTolerance(z, options));
-    for (int n = 0; n < num_neighbours; ++n) {
-      const int x = p.x + kNeighbours[n][0], y = p.y + kNeighbours[n][1];
-      if (x < inside.x || x >= x_end || y < inside.y || y >= y_end) continue;
-      const int i = y * cols + x;
-      const float zq = depth[i];
-      if (mark[i] || (limited && !allow[i]) || !(zq > 0) || std::abs(zq - z) > tolerance ||
-          std::abs(zq - reference) > max_from_reference)
-        continue;
-      mark[i] = 255;
-      ++added;
-      stack.emplace_back(x, y);
-    }
-  }
-  return added;
+  return added + (options.connectivity == 8 ? GrowPixels(growth, stack) : GrowRuns(growth, stack));
 }
 
 cv::Mat RefineDynamicMask(const cv::Mat& raw_mask, const cv::Mat& depth_m, const RegionGrowingOptions& options) {
@@ -174,9 +225,9 @@ cv::Mat RefineDynamicMask(const cv::Mat& raw_mask, const cv::Mat& depth_m, const
              0, 0, cv::INTER_AREA);
   const int num_labels = cv::connectedComponentsWithStats(coarse > 0, labels, stats, centroids, 8, CV_32S);
   const int band = options.growth_band_px;
-  cv::Mat allowed;  // growth stays within the network mask dilated by the band (square kernel: fast)
-  cv::dilate(raw_mask != 0, allowed, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * band + 1, 2 * band + 1)));
+  const cv::Mat allowed = GrowthBand(coarse > 0, raw_mask.size(), band);
   const cv::Rect image(0, 0, raw_mask.cols, raw_mask.rows);
+  cv::Rect mask_box;  // of all components
   for (int label = 1; label < num_labels; ++label) {
     if (stats.at<int>(label, cv::CC_STAT_AREA) * kCoarse * kCoarse < options.min_component_px) continue;
     const cv::Rect coarse_box(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
@@ -184,6 +235,7 @@ cv::Mat RefineDynamicMask(const cv::Mat& raw_mask, const cv::Mat& depth_m, const
     const cv::Rect component_box =
         cv::Rect(coarse_box.x * kCoarse, coarse_box.y * kCoarse, coarse_box.width * kCoarse, coarse_box.height * kCoarse) &
         image;
+    mask_box |= component_box;
     const std::vector<SeedGroup> groups =
         SeedLayers(CoreSeeds(labels, label, coarse_box, raw_mask, depth_m, options), options);
     if (groups.empty()) {  // no usable depth inside: keep the network's mask as it is
@@ -194,7 +246,10 @@ cv::Mat RefineDynamicMask(const cv::Mat& raw_mask, const cv::Mat& depth_m, const
                                   component_box.height + 2 * band) & image;
     GrowSeedLayers(depth_m, raw_mask, groups, box, allowed, options, refined);
   }
-  refined.setTo(255, NoDepthPart(raw_mask, depth_m, options.no_depth_dilation_px));
+  const int margin = options.no_depth_dilation_px;
+  mask_box = cv::Rect(mask_box.x - margin, mask_box.y - margin, mask_box.width + 2 * margin,
+                      mask_box.height + 2 * margin) & image;
+  if (!mask_box.empty()) refined(mask_box).setTo(255, NoDepthPart(raw_mask(mask_box), depth_m(mask_box), margin));
   return refined;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The immutable per-image feature data that a Frame computes once and a KeyFrame keeps: keypoints,
 // descriptors, per-keypoint depth, dynamic flags and a spatial grid. Shared by pointer between a
-// Frame and the KeyFrame made from it (never modified after construction, so no lock is needed).
+// Frame and the KeyFrame made from it. Immutable once shared (no lock is needed): only the Frame
+// that owns it alone may still mark keypoints dynamic (Frame::MarkDynamic), during its tracking step.
 
 #include <cstdint>
 #include <memory>
@@ -15,6 +16,10 @@
 
 namespace esdslam {
 
+// FeatureSet::is_dynamic values (any nonzero value = dynamic).
+constexpr std::uint8_t kDynamicByMask = 1;      // on the dynamic mask given with the image (semantics)
+constexpr std::uint8_t kDynamicByGeometry = 2;  // found moving by the multi-view geometry check
+
 struct FeatureSet {
   std::shared_ptr<const RgbdRig> rig;
   std::vector<cv::KeyPoint> keypoints;    // raw (distorted) level-0 px; octave = pyramid level
@@ -22,7 +27,7 @@ struct FeatureSet {
   cv::Mat descriptors;                    // N x 32 CV_8U
   std::vector<float> depth;               // metres along z at the raw keypoint; <= 0: no depth
   std::vector<float> right_u;             // virtual right u = u - bf / depth (px); < 0: none
-  std::vector<std::uint8_t> is_dynamic;   // 1: on a moving object, never used for pose or map
+  std::vector<std::uint8_t> is_dynamic;   // nonzero: on a moving object, never used for pose or map
   std::unique_ptr<FeatureGrid> grid;      // over `undistorted`
 
   int size() const { return static_cast<int>(keypoints.size()); }

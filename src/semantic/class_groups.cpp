@@ -61,8 +61,11 @@ ClassGroups::ClassGroups(const ClassGroupOptions& options, const std::vector<std
 
 SemanticMasks ClassGroups::Masks(const cv::Mat& labels) const {
   if (labels.empty() || labels.type() != CV_8UC1) throw Error("ClassGroups::Masks: labels must be a non-empty CV_8UC1 image");
-  return {MaskFromLut(labels, group_of_id_, ClassGroup::kDynamic),
-          MaskFromLut(labels, group_of_id_, ClassGroup::kPotentiallyDynamic)};
+  SemanticMasks masks{MaskFromLut(labels, group_of_id_, ClassGroup::kDynamic),
+                      MaskFromLut(labels, group_of_id_, ClassGroup::kPotentiallyDynamic),
+                      MaskFromLut(labels, group_of_id_, ClassGroup::kStatic)};
+  masks.static_objects.setTo(0, labels == 0);
+  return masks;
 }
 
 }  // namespace esdslam

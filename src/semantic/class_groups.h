@@ -32,6 +32,7 @@ struct ClassGroupOptions {
 struct SemanticMasks {
   cv::Mat dynamic;
   cv::Mat potentially_dynamic;
+  cv::Mat static_objects;  // static group except class id 0 (background: "unlabelled")
 };
 
 class ClassGroups {

@@ -1,5 +1,6 @@
 #include "synth/sequence_writer.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -69,6 +70,11 @@ std::string SynthSettingsYaml(const SynthOptions& options) {
   yaml += fmt::format("DepthMapFactor: {:.1f}\n", kSynthDepthFactor);
   yaml += "ORBextractor.nFeatures: 1000\nORBextractor.scaleFactor: 1.2\nORBextractor.nLevels: 8\n";
   yaml += "ORBextractor.iniThFAST: 20\nORBextractor.minThFAST: 7\n";
+  // Colour and depth are rendered with one global shutter at the same instant (up to the depth
+  // time offset): the depth image is misregistered against the colour pose only by the motion
+  // during that offset (fraction of a frame), not by a real sensor's timing and rolling shutter.
+  yaml += "# Misregistration of depth vs colour as a fraction of the motion per frame\n";
+  yaml += fmt::format("Dynamic.check.motionWindowFraction: {:.3f}\n", std::abs(options.depth_time_offset) * options.fps);
   return yaml;
 }
 

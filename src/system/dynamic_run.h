@@ -2,10 +2,15 @@
 // One `esdslam run` over a TUM-layout sequence with the dynamic stages switched by a mode:
 //   none      plain ORB-SLAM2-style RGB-D SLAM
 //   semantic  segmentation (dynamic classes) + depth region growing -> dynamic mask per frame
+//   geometry  multi-view geometry check in tracking only (no network)
+//   full      both: the semantic mask first, then the geometry check on potentially dynamic
+//             class regions and unlabelled (background) regions; labelled static classes and
+//             the semantic mask are exempt from it (Frame::geometry_exempt)
 // Per frame (Step): load frame i (frame i+1 is loaded and submitted to the segmentation thread
 // before frame i is tracked, so the network runs in parallel with extraction and tracking), take
-// frame i's dynamic mask, track with it (the extractor spends its budget on the static area),
-// hand new keyframes to the dense mapper, write the debug picture.
+// frame i's dynamic mask, track with it (the extractor spends its budget on the static area; the
+// geometry check runs inside tracking), hand new keyframes to the dense mapper (depth masked by
+// the semantic and the geometry masks), write the debug picture.
 
 #include <cstdint>
 #include <memory>
@@ -23,12 +28,15 @@
 
 namespace esdslam {
 
-enum class DynamicMode { kNone, kSemantic };
+enum class DynamicMode { kNone, kSemantic, kGeometry, kFull };
 const char* ToString(DynamicMode mode);
 DynamicMode ParseDynamicMode(const std::string& text);  // throws Error
 
+bool UsesSegmentation(DynamicMode mode);
+bool UsesGeometryCheck(DynamicMode mode);
+
 struct DynamicRunOptions {
-  DynamicMode mode = DynamicMode::kSemantic;
+  DynamicMode mode = DynamicMode::kFull;
   bool realtime = false;         // newest-wins segmentation (overrides Semantic.realtime)
   bool dense = false;            // dense map of the keyframes, written by Finish
   std::string dense_mask_dir;    // with dense: each keyframe's dynamic mask saved as <timestamp>.png; empty = not saved
@@ -43,8 +51,10 @@ struct FrameStep {
   double timestamp = 0;
   double load_ms = 0;     // reading frame i's images (or the look-ahead frame's)
   TrackOutcome outcome;
-  DynamicMaskResult mask;  // empty in mode none
-  int keypoints = 0, dynamic_keypoints = 0;
+  DynamicMaskResult mask;  // empty in modes none and geometry
+  cv::Mat geometry_mask;   // CV_8U, 255 = moving by the geometry check; empty when it did not run
+  int keypoints = 0, dynamic_keypoints = 0;  // dynamic: by the mask or by geometry
+  int geometry_keypoints = 0;                // of those, by geometry
 };
 
 class DynamicRun {

@@ -123,7 +123,7 @@ void BindSemanticSettings(SemanticKeys& k, SettingsTable& table) {
 void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
   table.Add("Dynamic.maskDilation", &run.mask_dilation_px);
   BindGrowing("Dynamic.grow.", run.region_growing, table);
-  GeometryCheckOptions& g = run.geometry;
+  GeometryCheckOptions& g = run.geometry.check;
   table.Add("Dynamic.check.maxParallax", &g.max_parallax_deg);
   table.Add("Dynamic.check.absThreshold", &g.abs_threshold_m);
   table.Add("Dynamic.check.depthSqThreshold", &g.depth_sq_threshold);
@@ -132,8 +132,16 @@ void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
   table.Add("Dynamic.check.windowRadius", &g.window_radius_px);
   table.Add("Dynamic.check.clusterRadius", &g.cluster_radius_px);
   table.Add("Dynamic.check.minClusterPoints", &g.min_cluster_points);
-  table.Add("Dynamic.check.maskRadius", &g.mask_radius_px);
+  table.Add("Dynamic.check.minClusterSupport", &g.min_cluster_support);
+  table.Add("Dynamic.check.motionWindowFraction", &g.motion_window_fraction);
+  table.Add("Dynamic.check.maxWindowRadius", &g.max_window_radius_px);
+  table.Add("Dynamic.check.maskRadius", &g.mask_radius_m);
+  table.Add("Dynamic.check.maxMaskRadius", &g.max_mask_radius_px);
   BindGrowing("Dynamic.check.grow.", g.growing, table);
+  table.Add("Dynamic.check.referenceKeyframes", &run.geometry.reference_keyframes);
+  table.Add("Dynamic.check.keyframeDepthCapacity", &run.geometry.keyframe_depth_capacity);
+  table.Add("Dynamic.check.keyframeDepthScale", &run.geometry.keyframe_depth_scale);
+  table.Add("Dynamic.check.cullAfterFrames", &run.geometry.cull_after_frames);
 }
 
 RunSettings LoadRunSettings(const std::string& path, std::vector<std::string>* warnings) {

@@ -10,18 +10,19 @@
 //   Semantic.dynamicClasses, Semantic.potentiallyDynamicClasses: a YAML list or "a,b" text
 //   Semantic.maskFolder, Semantic.maskTolerance (s), Semantic.allowMissingMasks (folder segmenter)
 //   Semantic.realtime: 1 = newest-wins segmentation thread, 0 = every frame
-// Dynamic.* keys: Dynamic.grow.* (RegionGrowingOptions) and Dynamic.check.* (GeometryCheckOptions,
-// its own region growing under Dynamic.check.grow.*), see BindDynamicSettings in run_settings.cpp.
+// Dynamic.* keys: Dynamic.grow.* (RegionGrowingOptions) and Dynamic.check.* (GeometryFilterOptions:
+// the check itself, its own region growing under Dynamic.check.grow.*, reference keyframes,
+// keyframe depth kept, culling), see BindDynamicSettings in run_settings.cpp.
 
 #include <string>
 #include <vector>
 
 #include "dense/dense_options.h"
-#include "dynamic/geometry_check.h"
 #include "dynamic/region_growing.h"
 #include "io/settings.h"
 #include "semantic/semantic_settings.h"
 #include "system/loop_settings.h"
+#include "tracking/geometry_filter.h"
 
 namespace esdslam {
 
@@ -31,7 +32,7 @@ struct RunSettings {
   Settings core;
   SemanticSettings semantic;
   RegionGrowingOptions region_growing;
-  GeometryCheckOptions geometry;
+  GeometryFilterOptions geometry;  // the multi-view geometry check in tracking (modes geometry, full)
   DenseOptions dense;
   int mask_dilation_px = 10;  // Dynamic.maskDilation: final dynamic mask grown by this (px) for tracking
   LoopOptions loop;  // Loop.* keys (system/loop_settings.h); vocabulary path resolved on load

@@ -98,10 +98,17 @@ DynamicMaskResult SemanticFrontEnd::MaskFor(std::int64_t id, const cv::Mat& dept
   if (done->id != id) {
     masks.dynamic = CarryToFrame(masks.dynamic, done->id, id);
     masks.potentially_dynamic = CarryToFrame(masks.potentially_dynamic, done->id, id);
+    masks.static_objects = CarryToFrame(masks.static_objects, done->id, id);
     out.warped = true;
   }
-  out.mask = Dilate(KeepMaskCore(RefineDynamicMask(masks.dynamic, depth_m, growing_), masks.dynamic), mask_dilation_px_);
+  Stopwatch grow;
+  ThreadCpuStopwatch grow_cpu;
+  cv::Mat refined = RefineDynamicMask(masks.dynamic, depth_m, growing_);
+  out.grow_ms = grow.ElapsedMs();
+  out.grow_cpu_ms = grow_cpu.ElapsedMs();
+  out.mask = Dilate(KeepMaskCore(refined, masks.dynamic), mask_dilation_px_);
   out.potentially_dynamic = masks.potentially_dynamic;
+  out.static_objects = masks.static_objects;
   out.refine_ms = refine.ElapsedMs();
   out.dynamic_fraction = static_cast<double>(cv::countNonZero(out.mask)) / std::max<int>(1, out.mask.total());
   return out;

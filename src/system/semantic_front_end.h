@@ -33,12 +33,15 @@ namespace esdslam {
 struct DynamicMaskResult {
   cv::Mat mask;                    // CV_8U, 255 = dynamic (refined); empty if no result yet
   cv::Mat potentially_dynamic;     // CV_8U, 255 = potentially dynamic class; empty if none
+  cv::Mat static_objects;          // CV_8U, 255 = labelled static class (not background); empty if none
   std::int64_t source_id = -1;     // frame whose labels were used (-1: none)
   bool warped = false;             // labels of an older frame carried to this one
   double wait_ms = 0;              // time MaskFor blocked on the worker
   double segment_ms = 0;           // network time of the source frame
   double latency_ms = 0;           // submit -> result of the source frame
-  double refine_ms = 0;            // class masks + warp + region growing
+  double refine_ms = 0;            // class masks + warp + region growing + dilation
+  double grow_ms = 0;              // region growing alone (RefineDynamicMask)
+  double grow_cpu_ms = 0;          // the same, CPU time of the calling thread
   double dynamic_fraction = 0;     // of the image area
 };
 

@@ -14,6 +14,7 @@ void SlamOptions::Check() const {
   tracker.Check();
   mapping.Check();
   loop.Check();
+  if (geometry_check) geometry.Check();
   if (tracker.localization_only && load_map.empty()) throw Error("slam: localization mode needs a map to load");
   if (tracker.localization_only && !loop.relocalization) throw Error("slam: localization mode needs relocalization");
 }
@@ -36,6 +37,10 @@ SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
   }
   tracker_ = std::make_unique<Tracker>(map_.get(), sink, options_.tracker);
   tracker_->set_relocalizer(relocalizer_.get());
+  if (options_.geometry_check) {
+    geometry_filter_ = std::make_unique<GeometryFilter>(options_.geometry);
+    tracker_->set_geometry_filter(geometry_filter_.get());
+  }
   if (!options_.load_map.empty()) {
     LoadMap(options_.load_map, rig_, map_.get());
     if (places_) places_->AddMissing(map_->keyframes());
@@ -56,14 +61,25 @@ SlamSystem::~SlamSystem() {
 }
 
 TrackOutcome SlamSystem::TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, double timestamp,
-                                   const cv::Mat& dynamic_mask) {
+                                   const cv::Mat& dynamic_mask, const cv::Mat& geometry_exempt) {
   if (shut_down_) throw Error("slam: TrackRgbd after Shutdown");
   TrackOutcome outcome;
   Stopwatch watch;
   Frame frame(next_frame_id_++, timestamp, bgr, depth_m, dynamic_mask, *extractor_, rig_, options_.frame);
+  frame.geometry_exempt = geometry_exempt;
   outcome.extract_ms = watch.ElapsedMs();
   watch.Restart();
+  if (geometry_filter_) geometry_filter_->BeginFrame();
   const TrackingResult result = tracker_->Track(&frame);
+  if (geometry_filter_) {
+    const GeometryFilterStats& geometry = geometry_filter_->last();
+    outcome.geometry_ms = geometry.check_ms;
+    outcome.geometry_cpu_ms = geometry.check_cpu_ms;
+    outcome.geometry_keypoints = geometry.flagged_keypoints;
+    outcome.geometry_culled = geometry.points_culled;
+    outcome.geometry_covered = geometry.covered;
+    outcome.geometry_window_px = geometry.skipped_fast_motion ? -1 : geometry.window_radius_px;
+  }
   if (options_.single_thread) mapper_->ProcessQueued();
   outcome.track_ms = watch.ElapsedMs();
   outcome.state = result.state;

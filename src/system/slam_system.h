@@ -21,6 +21,7 @@
 #include "mapping/local_mapper.h"
 #include "system/loop_settings.h"
 #include "system/place_indexing_sink.h"
+#include "tracking/geometry_filter.h"
 #include "tracking/relocalizer.h"
 #include "tracking/tracker.h"
 
@@ -33,6 +34,8 @@ struct SlamOptions {
   LocalMapperOptions mapping;
   FrameOptions frame;
   LoopOptions loop;            // place recognition and relocalization (system/loop_settings.h)
+  bool geometry_check = false; // multi-view geometry check in tracking (tracking/geometry_filter.h)
+  GeometryFilterOptions geometry;
   // Map file to start from (map/map_serialization.h): tracking starts LOST and relocalizes in it.
   // With tracker.localization_only no keyframe is added (needs loop.relocalization).
   std::string load_map;
@@ -48,6 +51,12 @@ struct TrackOutcome {
   int inliers = 0;
   double extract_ms = 0;  // Frame construction (ORB extraction, undistortion, depth lookup)
   double track_ms = 0;    // tracking step, plus local mapping in single-thread mode
+  double geometry_ms = 0; // part of track_ms: the geometry check (0 when off or not run)
+  double geometry_cpu_ms = 0;  // the same, CPU time
+  int geometry_keypoints = 0;  // keypoints the geometry check marked dynamic
+  int geometry_culled = 0;     // map points it culled as moved
+  int geometry_covered = 0;    // reference points it found covered (before clustering)
+  int geometry_window_px = 0;  // its measured-depth window radius (grows with image motion)
 };
 
 class SlamSystem {
@@ -58,9 +67,10 @@ class SlamSystem {
   SlamSystem& operator=(const SlamSystem&) = delete;
 
   // bgr: CV_8UC3 (or CV_8UC1 grey); depth_m: CV_32F metres, 0 = invalid; dynamic_mask: empty or
-  // CV_8U, nonzero = moving object. Throws Error on bad images or after Shutdown().
+  // CV_8U, nonzero = moving object; geometry_exempt: empty or CV_8U, nonzero = left alone by the
+  // geometry check (Frame::geometry_exempt). Throws Error on bad images or after Shutdown().
   TrackOutcome TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, double timestamp,
-                         const cv::Mat& dynamic_mask = cv::Mat());
+                         const cv::Mat& dynamic_mask = cv::Mat(), const cv::Mat& geometry_exempt = cv::Mat());
 
   // Finishes local mapping (processes queued keyframes) and joins its thread. Idempotent.
   void Shutdown();
@@ -80,6 +90,8 @@ class SlamSystem {
   int relocalizations() const { return tracker_->relocalizations(); }
   // Null when relocalization is disabled.
   PlaceRecognition* place_recognition() { return places_.get(); }
+  // Null unless SlamOptions::geometry_check; last() describes the last TrackRgbd call.
+  const GeometryFilter* geometry_filter() const { return geometry_filter_.get(); }
   Map& map() { return *map_; }
   // The frame of the last TrackRgbd call (keypoints, is_dynamic flags, associations).
   const Frame& last_frame() const { return tracker_->last_frame(); }
@@ -101,6 +113,7 @@ class SlamSystem {
   std::unique_ptr<PlaceRecognition> places_;          // null without relocalization
   std::unique_ptr<PlaceIndexingSink> indexing_sink_;  // tracking -> (BoW indexing) -> local mapping
   std::unique_ptr<Relocalizer> relocalizer_;
+  std::unique_ptr<GeometryFilter> geometry_filter_;  // null without the geometry check
   std::unique_ptr<Tracker> tracker_;
   long next_frame_id_ = 0;
   mutable std::mutex records_mutex_;

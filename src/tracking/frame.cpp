@@ -61,7 +61,7 @@ void CorrectPyramidOffsets(const std::vector<double>& scale_factors, std::vector
 
 Frame::Frame(long id, double timestamp, const cv::Mat& image, const cv::Mat& depth_m, const cv::Mat& dynamic_mask,
              const OrbExtractor& extractor, std::shared_ptr<const RgbdRig> rig, const FrameOptions& options)
-    : id_(id), timestamp_(timestamp) {
+    : id_(id), timestamp_(timestamp), depth_m_(depth_m) {
   if (image.empty() || depth_m.empty()) throw Error("Frame: empty colour or depth image");
   if (depth_m.type() != CV_32FC1 || depth_m.size() != image.size())
     throw Error("Frame: depth must be CV_32F metres with the size of the colour image");
@@ -95,7 +95,7 @@ Frame::Frame(long id, double timestamp, const cv::Mat& image, const cv::Mat& dep
     if (has_mask) {
       const int u = std::clamp(cvRound(keypoint.pt.x), 0, image.cols - 1);
       const int v = std::clamp(cvRound(keypoint.pt.y), 0, image.rows - 1);
-      features->is_dynamic[i] = dynamic_mask.at<unsigned char>(v, u) != 0;
+      features->is_dynamic[i] = dynamic_mask.at<unsigned char>(v, u) != 0 ? kDynamicByMask : 0;
     }
   }
   features->grid = std::make_unique<FeatureGrid>(features->undistorted, levels, camera.min_u(), camera.max_u(),
@@ -125,6 +125,14 @@ bool Frame::IsInFrustum(MapPoint* point, double min_view_cos) const {
   point->track.predicted_level = point->PredictLevel(distance, rig().pyramid.num_levels, rig().pyramid.log_scale_factor);
   point->track.view_cos = view_cos;
   return true;
+}
+
+void Frame::MarkDynamic(int i, std::uint8_t reason) {
+  if (features_.use_count() != 1) throw Error("Frame::MarkDynamic: the features are already shared with a keyframe");
+  if (i < 0 || i >= size() || reason == 0) throw Error("Frame::MarkDynamic: bad keypoint index or reason");
+  features_->is_dynamic[i] = reason;
+  map_points[i] = nullptr;
+  outlier[i] = false;
 }
 
 int Frame::NumWithDepth() const {

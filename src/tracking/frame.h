@@ -40,7 +40,7 @@ class Frame {
   long id() const { return id_; }
   double timestamp() const { return timestamp_; }
   const FeatureSet& features() const { return *features_; }
-  const std::shared_ptr<const FeatureSet>& shared_features() const { return features_; }
+  std::shared_ptr<const FeatureSet> shared_features() const { return features_; }
   const RgbdRig& rig() const { return *features_->rig; }
   int size() const { return features_ ? features_->size() : 0; }
   bool valid() const { return features_ != nullptr; }
@@ -61,10 +61,21 @@ class Frame {
   // Keypoint count with depth.
   int NumWithDepth() const;
 
+  // The depth image the frame was built from (CV_32F metres, raw pixel grid; shared, not copied).
+  const cv::Mat& depth_m() const { return depth_m_; }
+  // Flags keypoint i dynamic (reason: kDynamicByMask or kDynamicByGeometry) and drops its
+  // association. Only while no keyframe shares the features yet; throws Error otherwise.
+  void MarkDynamic(int i, std::uint8_t reason);
+
+  // Regions the multi-view geometry check leaves alone (CV_8U, nonzero = exempt: trusted static
+  // classes, pixels already on the dynamic mask); empty = none.
+  cv::Mat geometry_exempt;
+
  private:
   long id_ = -1;
   double timestamp_ = 0;
-  std::shared_ptr<const FeatureSet> features_;
+  std::shared_ptr<FeatureSet> features_;  // shared with keyframes as const (see MarkDynamic)
+  cv::Mat depth_m_;
 };
 
 }  // namespace esdslam

@@ -8,6 +8,7 @@
 #include "map/keyframe.h"
 #include "map/map_point.h"
 #include "tracking/frame_matcher.h"
+#include "tracking/geometry_filter.h"
 #include "tracking/relocalizer.h"
 
 namespace esdslam {
@@ -55,10 +56,12 @@ TrackingResult Tracker::Track(Frame* frame) {
         if (!tracked) tracked = TrackReferenceKeyFrame(frame);
       }
       frame->reference_keyframe = reference_keyframe_;
+      if (tracked && geometry_filter_ != nullptr) FilterMovingKeypoints(frame);
       if (tracked) tracked = TrackLocalMap(frame);
       state_ = tracked ? TrackingState::kOk : TrackingState::kLost;
       if (tracked && !options_.localization_only && NeedNewKeyFrame(*frame)) result.new_keyframe = CreateNewKeyFrame(frame);
     }
+    if (result.new_keyframe != nullptr && geometry_filter_ != nullptr) geometry_filter_->AddKeyFrame(*result.new_keyframe, *frame);
     Finish(frame, tracked);
     result.state = state_;
     result.has_pose = frame->has_pose;
@@ -176,6 +179,18 @@ bool Tracker::TrackReferenceKeyFrame(Frame* frame) {
   frame->cam_from_world = has_last_good_pose_ ? last_good_cam_from_world_ : reference_keyframe_->cam_from_world();
   OptimizePose(frame);
   return DiscardOutliers(frame) >= options_.min_pose_matches;
+}
+
+// Geometry check on the first pose; without the moving keypoints' matches the pose is estimated
+// again (when enough are left), so that local-map tracking starts from an unbiased pose.
+void Tracker::FilterMovingKeypoints(Frame* frame) {
+  if (geometry_filter_->Apply(frame) == 0) return;
+  int kept = 0;
+  for (int i = 0; i < frame->size(); ++i)
+    kept += frame->map_points[i] != nullptr && !frame->outlier[i] && frame->map_points[i]->num_observations() > 0;
+  if (kept < options_.min_pose_matches) return;
+  OptimizePose(frame);
+  DiscardOutliers(frame);
 }
 
 int Tracker::OptimizePose(Frame* frame) {

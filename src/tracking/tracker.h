@@ -20,7 +20,8 @@
 
 namespace esdslam {
 
-class Relocalizer;  // tracking/relocalizer.h
+class Relocalizer;     // tracking/relocalizer.h
+class GeometryFilter;  // tracking/geometry_filter.h
 
 enum class TrackingState { kNotInitialized, kOk, kLost };
 const char* ToString(TrackingState state);
@@ -64,6 +65,9 @@ class Tracker {
   // Global BoW relocalization tried while LOST when the reference-keyframe retry fails (null = off;
   // not owned). Tracking resumes in the same map.
   void set_relocalizer(Relocalizer* relocalizer) { relocalizer_ = relocalizer; }
+  // Multi-view geometry check run between the first pose and local-map tracking (null = off; not
+  // owned): keypoints it finds moving are dropped and the pose is re-estimated without them.
+  void set_geometry_filter(GeometryFilter* filter) { geometry_filter_ = filter; }
   // For a map loaded from a file: start LOST, so the first frames are relocalized in it.
   void StartInExistingMap() { state_ = TrackingState::kLost; }
   // Frames relocalized by the relocalizer so far.
@@ -79,6 +83,7 @@ class Tracker {
   bool TrackReferenceKeyFrame(Frame* frame);
   bool Relocalize(Frame* frame);  // tracker_relocalization.cpp
   void UpdateLastFrame();
+  void FilterMovingKeypoints(Frame* frame);
   void ReplaceMovedPointsInLastFrame();
   int OptimizePose(Frame* frame);
   int DiscardOutliers(Frame* frame);
@@ -111,6 +116,7 @@ class Tracker {
   std::vector<MapPoint*> local_points_;
   std::vector<std::unique_ptr<MapPoint>> temporary_points_;  // depth points of the last frame
   Relocalizer* relocalizer_ = nullptr;
+  GeometryFilter* geometry_filter_ = nullptr;
   int relocalizations_ = 0;
 };
 

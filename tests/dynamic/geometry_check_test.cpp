@@ -30,7 +30,7 @@ SynthOptions SmallOptions(const std::string& preset, int frames) {
 GeometryCheckOptions SmallGeometryOptions() {
   GeometryCheckOptions options;
   options.cluster_radius_px = 12;
-  options.mask_radius_px = 16;
+  options.max_mask_radius_px = 80;
   return options;
 }
 
@@ -115,8 +115,10 @@ void ScoreFrame(const SyntheticScene& scene, int current_index, Scores total[2])
     total[variant].flagged_on_movers += s.flagged_on_movers;
     total[variant].detectable += s.detectable;
     total[variant].detected += s.detected;
-    // The mask grown from the flags lies on the movers (a little leaks into the floor at the feet).
-    EXPECT_GE(mask_on_movers, 0.85 * mask_px);
+    // The mask grown from the flags lies mostly on the movers. Growth reaches up to 0.5 m from the
+    // flags (across a person) and leaks onto the floor at the feet, where depth is continuous:
+    // worst for a mover close to the camera (frame 59: 71 % on the mover).
+    EXPECT_GE(mask_on_movers, 0.65 * mask_px);
   }
 }
 
@@ -227,6 +229,54 @@ TEST(ReferenceKeyframes, PicksMostSharedAndMostOverlapping) {
   ASSERT_GE(chosen.size(), 2u);
   EXPECT_TRUE((chosen[0] == 4 && chosen[1] == 0) || (chosen[0] == 0 && chosen[1] == 4));
   EXPECT_EQ(std::count(chosen.begin(), chosen.end(), 2), 0);
+}
+
+// Depth images are sensor images: with lens distortion a projection must be distorted before the
+// depth is read. Current depth (raw grid): 3 m, with a 1 m block over raw columns u >= 582.
+TEST(GeometryCheck, ReadsDepthAtTheDistortedPixel) {
+  CameraIntrinsics k = SynthOptions::DefaultIntrinsics();
+  k.k1 = 0.26, k.k2 = -0.95, k.k3 = 1.16;  // TUM freiburg1-like
+  const PinholeCamera camera(k);
+  cv::Mat depth(k.height, k.width, CV_32F, cv::Scalar(3.0f));
+  depth(cv::Rect(582, 0, k.width - 582, k.height)).setTo(1.0f);
+  const auto on_ray_of_raw = [&](float u, float v) {
+    const cv::Point2f ideal = camera.Undistort({{u, v}})[0];
+    return camera.Backproject(Vec2(ideal.x, ideal.y), 3.0);
+  };
+  ReferenceKeyframe keyframe;
+  keyframe.points_world = {on_ray_of_raw(586, 10), on_ray_of_raw(560, 10)};
+  // The first point's raw pixel is on the block, its ideal projection is not.
+  ASSERT_LT(camera.Project(keyframe.points_world[0]).x(), 580.5);
+  const GeometryCheckResult result =
+      CheckMultiViewGeometry(camera, Rigid3::Identity(), depth, {keyframe}, GeometryCheckOptions{});
+  ASSERT_EQ(result.outcomes.size(), 1u);
+  EXPECT_EQ(result.outcomes[0][0], PointOutcome::kCovered);
+  EXPECT_EQ(result.outcomes[0][1], PointOutcome::kConsistent);
+  ASSERT_EQ(result.dynamic_points.size(), 1u);
+  EXPECT_NEAR(result.dynamic_points[0].pixel.x, 586, 1);
+  EXPECT_NEAR(result.dynamic_points[0].pixel.y, 10, 1);
+}
+
+TEST(GeometryCheck, ExemptPixelsAreNeitherFlaggedNorMasked) {
+  const PinholeCamera camera(SynthOptions::DefaultIntrinsics());
+  cv::Mat depth(camera.height(), camera.width(), CV_32F, cv::Scalar(3.0f));
+  depth(cv::Rect(200, 150, 120, 200)).setTo(1.5f);  // something 1.5 m in front of a 3 m wall
+  ReferenceKeyframe keyframe;                       // saw the wall there
+  for (int v = 160; v < 340; v += 12)
+    for (int u = 210; u < 310; u += 12) keyframe.points_world.push_back(camera.Backproject(Vec2(u, v), 3.0));
+  GeometryCheckResult result = CheckMultiViewGeometry(camera, Rigid3::Identity(), depth, {keyframe}, {});
+  const int flagged = static_cast<int>(result.dynamic_points.size());
+  EXPECT_EQ(flagged, static_cast<int>(keyframe.points_world.size()));
+  EXPECT_GT(cv::countNonZero(result.dynamic_mask(cv::Rect(200, 150, 120, 200))), 0.9 * 120 * 200);
+  cv::Mat exempt = cv::Mat::zeros(depth.size(), CV_8U);
+  exempt(cv::Rect(0, 0, 260, camera.height())).setTo(255);  // left part trusted (e.g. a static class)
+  result = CheckMultiViewGeometry(camera, Rigid3::Identity(), depth, {keyframe}, {}, exempt);
+  for (const FlaggedPoint& flag : result.dynamic_points) EXPECT_GE(flag.pixel.x, 260);
+  EXPECT_GT(std::count(result.outcomes[0].begin(), result.outcomes[0].end(), PointOutcome::kExempt), 0);
+  EXPECT_EQ(cv::countNonZero(result.dynamic_mask & exempt), 0);
+  EXPECT_GT(cv::countNonZero(result.dynamic_mask), 0);
+  EXPECT_THROW(CheckMultiViewGeometry(camera, Rigid3::Identity(), depth, {keyframe}, {}, cv::Mat::zeros(4, 4, CV_8U)),
+               Error);
 }
 
 TEST(GeometryCheck, RejectsBadInput) {

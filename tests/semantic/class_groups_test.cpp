@@ -52,9 +52,11 @@ TEST(ClassGroups, MasksMarkExactlyTheGroupPixels) {
   ASSERT_EQ(masks.dynamic.type(), CV_8UC1);
   const uchar expected_dynamic[] = {255, 0, 0, 0, 255, 0};
   const uchar expected_potential[] = {0, 255, 0, 0, 0, 255};
+  const uchar expected_static_objects[] = {0, 0, 0, 255, 0, 0};  // sofa; background is unlabelled
   for (int i = 0; i < 6; ++i) {
     EXPECT_EQ(masks.dynamic.at<uchar>(i / 3, i % 3), expected_dynamic[i]) << i;
     EXPECT_EQ(masks.potentially_dynamic.at<uchar>(i / 3, i % 3), expected_potential[i]) << i;
+    EXPECT_EQ(masks.static_objects.at<uchar>(i / 3, i % 3), expected_static_objects[i]) << i;
   }
   EXPECT_THROW(ClassGroups().Masks(cv::Mat(2, 2, CV_32F)), Error);
 }

@@ -37,8 +37,8 @@ TEST(RunSettingsTest, BindsEveryStageInOneTable) {
   EXPECT_EQ(run.semantic.groups.potentially_dynamic_classes, (std::vector<std::string>{"chair"}));
   EXPECT_EQ(run.semantic.mode, SegmentationMode::kNewestWins);
   EXPECT_DOUBLE_EQ(run.region_growing.abs_tolerance_m, 0.05);
-  EXPECT_DOUBLE_EQ(run.geometry.abs_threshold_m, 0.12);
-  EXPECT_EQ(run.geometry.growing.growth_band_px, 9);
+  EXPECT_DOUBLE_EQ(run.geometry.check.abs_threshold_m, 0.12);
+  EXPECT_EQ(run.geometry.check.growing.growth_band_px, 9);
   EXPECT_DOUBLE_EQ(run.dense.voxel_size, 0.02);
   ASSERT_EQ(warnings.size(), 1u);  // only Unknown.key; Viewer.* is ignored silently
   EXPECT_NE(warnings[0].find("Unknown.key"), std::string::npos);
@@ -59,7 +59,7 @@ TEST(RunSettingsTest, SaveLoadRoundTripKeepsEveryValue) {
   RunSettings run = LoadRunSettings(WriteTemp("rt", std::string(kCore) + "Semantic.segmenter: folder\n"
                                                                           "Semantic.maskFolder: /tmp\n"));
   run.region_growing.depth_sq_tolerance = 0.0123456789;
-  run.geometry.max_parallax_deg = 25;
+  run.geometry.check.max_parallax_deg = 25;
   run.dense.pixel_stride = 3;
   run.semantic.groups.dynamic_classes = {"person", "cat"};
   run.semantic.groups.potentially_dynamic_classes = {"chair"};

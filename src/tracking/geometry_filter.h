@@ -1,0 +1,102 @@
+#pragma once
+// The multi-view geometry check inside tracking (ESD-SLAM Algorithm 2, after DynaSLAM). It runs
+// once the frame has a first pose from the semantically filtered features and before local-map
+// tracking:
+//   1. reference keyframes: the (up to 5) live keyframes that observe the most map points
+//      matched in the frame (covisibility with the frame);
+//   2. their keypoints with depth (not dynamic), lifted to the world with the keyframes' current
+//      poses, are checked against the frame's depth image (dynamic/geometry_check.h). The
+//      keyframe's own measurement, not the map point's position, is compared: the check asks
+//      what changed since that keyframe was taken, and a map point's position blends views from
+//      different times (and most keypoints with depth have no map point); the difference for
+//      static points, the depth noise, is far below the threshold. The
+//      keyframes' depth images kept here (reduced, bounded: dynamic/keyframe_depth_store.h) veto
+//      occlusions caused by the viewpoint change;
+//   3. keypoints on the mask grown from the flags (outside Frame::geometry_exempt: trusted static
+//      classes and the semantic mask) become dynamic (kDynamicByGeometry): they lose their
+//      association, take no part in pose estimation and never create map points;
+//   4. map points are voted on (dynamic/moving_point_votes.h): evidence when the frame sees
+//      through them (via a reference keyframe keypoint observing them) or when they were matched
+//      to a keypoint found moving; a consistent depth resets; points with evidence in
+//      cull_after_frames consecutive tested frames are culled (MapPoint::SetBad).
+// Threading: called by the tracker while it holds Map::update_mutex (culling is a structure
+// change under the map lock, docs/CORE.md). Owned by the tracking thread; not thread-safe.
+
+#include <unordered_map>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "dynamic/geometry_check.h"
+#include "dynamic/keyframe_depth_store.h"
+#include "dynamic/moving_point_votes.h"
+#include "common/geometry.h"
+#include "map/map_types.h"
+
+namespace esdslam {
+
+class Frame;
+
+struct GeometryFilterOptions {
+  GeometryCheckOptions check;
+  int reference_keyframes = 5;        // keyframes sharing the most map points with the frame
+  int keyframe_depth_capacity = 100;  // keyframe depth images kept for the veto (0 = points only)
+  double keyframe_depth_scale = 0.5;  // ... at this scale (0.5: 0.3 MB per VGA keyframe)
+  int cull_after_frames = 3;          // consecutive tested frames with evidence before culling (0 = never cull)
+  void Check() const;                 // throws Error
+};
+
+struct GeometryFilterStats {
+  bool ran = false;           // the check ran on this frame (it had a pose and reference keyframes)
+  double check_ms = 0;        // selection, check, flagging, voting and culling (wall time)
+  double check_cpu_ms = 0;    // the same, CPU time of the tracking thread
+  int reference_keyframes = 0;
+  int tested = 0, covered = 0, vanished = 0;  // reference points (GeometryCheckResult)
+  double image_motion_px = 0;  // since the previous frame (from the poses), sizes the depth window
+  int window_radius_px = 0;
+  bool skipped_fast_motion = false;
+  int flagged_keypoints = 0;  // keypoints marked kDynamicByGeometry
+  int associations_removed = 0;
+  int points_culled = 0;
+  cv::Mat mask;               // CV_8U, 255 = moving by geometry; empty when the check did not run
+};
+
+class GeometryFilter {
+ public:
+  explicit GeometryFilter(const GeometryFilterOptions& options);
+
+  void BeginFrame() { last_ = {}; }
+  // frame: tracked with a first pose and map point associations; caller holds Map::update_mutex.
+  // Returns the number of associations removed (the caller then re-estimates the pose).
+  int Apply(Frame* frame);
+  // A keyframe just made from `frame`: keeps its depth image for the veto.
+  void AddKeyFrame(const KeyFrame& keyframe, const Frame& frame);
+
+  const GeometryFilterStats& last() const { return last_; }
+  long total_points_culled() const { return total_culled_; }
+  const GeometryFilterOptions& options() const { return options_; }
+
+ private:
+  std::vector<KeyFrame*> SelectKeyFrames(const Frame& frame) const;
+  double ImageMotionSinceLastFrame(const Frame& frame) const;
+  // Reference points of each keyframe and the keypoint each came from.
+  std::vector<ReferenceKeyframe> BuildReferences(const std::vector<KeyFrame*>& keyframes,
+                                                 std::vector<std::vector<int>>* keypoints);
+  int FlagKeypoints(Frame* frame, const cv::Mat& mask);
+  void VoteReferencePoints(const std::vector<KeyFrame*>& keyframes, const std::vector<std::vector<int>>& keypoints,
+                           const GeometryCheckResult& result);
+  void CullMovedPoints(Frame* frame);
+  void Evidence(MapPoint* point);
+
+  GeometryFilterOptions options_;
+  KeyframeDepthStore depths_;
+  std::unordered_map<long, const KeyFrame*> depth_owners_;  // keyframes with a stored depth
+  MovingPointVotes votes_;
+  std::unordered_map<long, MapPoint*> evidence_points_;  // this frame's evidence, by point id
+  GeometryFilterStats last_;
+  long total_culled_ = 0;
+  long last_frame_id_ = -1;  // last frame checked, and its pose
+  Rigid3 last_cam_from_world_;
+};
+
+}  // namespace esdslam
