@@ -57,7 +57,10 @@ TrackingResult Tracker::Track(Frame* frame) {
       frame->reference_keyframe = reference_keyframe_;
       if (tracked) tracked = TrackLocalMap(frame);
       state_ = tracked ? TrackingState::kOk : TrackingState::kLost;
-      if (tracked && !options_.localization_only && NeedNewKeyFrame(*frame)) result.new_keyframe = CreateNewKeyFrame(frame);
+      // No keyframe while local mapping is paused for a loop correction (reservation refused).
+      if (tracked && !options_.localization_only && NeedNewKeyFrame(*frame) &&
+          (sink_ == nullptr || sink_->ReserveKeyFrame()))
+        result.new_keyframe = CreateNewKeyFrame(frame);
     }
     Finish(frame, tracked);
     result.state = state_;
@@ -173,7 +176,12 @@ bool Tracker::TrackReferenceKeyFrame(Frame* frame) {
   frame->map_points = best_associations;
   std::fill(frame->outlier.begin(), frame->outlier.end(), false);
   if (best_matches < 15) return false;
-  frame->cam_from_world = has_last_good_pose_ ? last_good_cam_from_world_ : reference_keyframe_->cam_from_world();
+  // Start from the last tracked pose, re-derived from its reference keyframe (which local BA or a
+  // loop correction may have moved since).
+  Rigid3 cam_from_good_reference = last_good_cam_from_reference_;
+  KeyFrame* good_reference = LiveAncestor(last_good_reference_, &cam_from_good_reference);
+  frame->cam_from_world = good_reference != nullptr ? cam_from_good_reference * good_reference->cam_from_world()
+                                                    : reference_keyframe_->cam_from_world();
   OptimizePose(frame);
   return DiscardOutliers(frame) >= options_.min_pose_matches;
 }
@@ -229,10 +237,10 @@ void Tracker::Finish(Frame* frame, bool tracked) {
       if (frame->outlier[i] || point->num_observations() < 1) frame->map_points[i] = nullptr;
       frame->outlier[i] = false;
     }
-    has_last_good_pose_ = true;
-    last_good_cam_from_world_ = frame->cam_from_world;
     if (frame->reference_keyframe == nullptr) frame->reference_keyframe = reference_keyframe_;
     last_cam_from_reference_ = frame->cam_from_world * frame->reference_keyframe->world_from_cam();
+    last_good_reference_ = frame->reference_keyframe;
+    last_good_cam_from_reference_ = last_cam_from_reference_;
   } else {
     velocity_valid_ = false;
     std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);

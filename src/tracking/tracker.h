@@ -8,7 +8,9 @@
 // without a pose get none (no pose is invented).
 //
 // Locking: Track() holds Map::update_mutex() for the whole step; new keyframes are handed to the
-// KeyFrameSink after the lock is released.
+// KeyFrameSink after the lock is released. Poses carried between frames (last frame, last tracked
+// pose) are kept relative to their reference keyframes, so they follow map corrections (local BA,
+// loop closing, global BA); the motion model is a relative motion and needs no correction.
 
 #include <memory>
 #include <vector>
@@ -101,8 +103,8 @@ class Tracker {
   Rigid3 last_cam_from_reference_;  // last_frame_'s pose relative to its reference keyframe
   bool velocity_valid_ = false;
   Rigid3 velocity_;  // current cam_from_last cam
-  bool has_last_good_pose_ = false;
-  Rigid3 last_good_cam_from_world_;
+  KeyFrame* last_good_reference_ = nullptr;  // the last tracked frame's reference (null: none yet)
+  Rigid3 last_good_cam_from_reference_;
   KeyFrame* reference_keyframe_ = nullptr;
   KeyFrame* last_keyframe_ = nullptr;
   long last_keyframe_frame_id_ = -1;
