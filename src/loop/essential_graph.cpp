@@ -103,7 +103,15 @@ EssentialGraphSummary OptimizeEssentialGraph(Map* map, const EssentialGraphInput
   summary.keyframes = static_cast<int>(keyframes.size());
   summary.edges = static_cast<int>(edges.size());
   summary.result = OptimizePoseGraph(poses.initial, edges, {input.loop->id()}, options);
-  for (KeyFrame* keyframe : keyframes) keyframe->set_cam_from_world(summary.result.cam_from_world.at(keyframe->id()));
+  double max_move = 0, sum_move = 0;
+  for (KeyFrame* keyframe : keyframes) {
+    const Rigid3& after = summary.result.cam_from_world.at(keyframe->id());
+    const double move = (after.inverse().translation() - poses.initial.at(keyframe->id()).inverse().translation()).norm();
+    max_move = std::max(max_move, move), sum_move += move;
+    keyframe->set_cam_from_world(after);
+  }
+  spdlog::debug("loop: essential graph moved keyframes by {:.4f} m on average, {:.4f} m at most",
+                sum_move / std::max<std::size_t>(1, keyframes.size()), max_move);
   summary.points_moved = MovePoints(*map, *input.correction, poses.initial, summary.result.cam_from_world);
   spdlog::debug("loop: essential graph {} keyframes, {} edges, cost {:.3g} -> {:.3g}", summary.keyframes,
                 summary.edges, summary.result.initial_cost, summary.result.final_cost);

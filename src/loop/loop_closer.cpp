@@ -145,6 +145,9 @@ std::vector<KeyFrame*> LoopCloser::DetectConsistentCandidates(KeyFrame* keyframe
     groups.push_back(std::move(group));
   }
   const std::vector<long> enough = consistency_.Update(groups);
+  spdlog::debug("loop: keyframe {}: {} connected, {} BoW candidates{}, {} consistent", keyframe->id(), connected.size(),
+                candidates.size(), candidates.empty() ? "" : fmt::format(" (best {})", candidates.front()->id()),
+                enough.size());
   std::vector<KeyFrame*> consistent;
   for (const long id : enough)
     for (KeyFrame* candidate : candidates)

@@ -27,7 +27,9 @@ void TrackerOptions::Check() const {
     throw Error("tracker: keyframe frame limits must be positive");
   if (!(motion_search_radius_px > 0) || !(local_search_radius_factor > 0))
     throw Error("tracker: search radii must be positive");
-  if (min_local_map_inliers < 3 || min_pose_matches < 3) throw Error("tracker: inlier thresholds must be >= 3");
+  if (min_local_map_inliers < 3 || min_pose_matches < 3 || relocalized_min_inliers < 3)
+    throw Error("tracker: inlier thresholds must be >= 3");
+  if (!(relocalized_search_radius_factor > 0)) throw Error("tracker: relocalized_search_radius_factor must be positive");
   pose.Check();
 }
 
