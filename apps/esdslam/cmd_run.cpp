@@ -114,6 +114,11 @@ void PrintSummary(const std::vector<FrameTiming>& timings, int total_frames, con
   std::printf("loops_closed %d (keyframes checked %d, candidates verified %d, global BA %d done / %d aborted)\n",
               loops.loops_closed, loops.keyframes_checked, loops.consistent_candidates, loops.global_ba.completed,
               loops.global_ba.aborted);
+  if (loops.keyframes_checked > 0)
+    std::printf("loop_timing detection %.2f ms/keyframe, verification %.2f ms/candidate, global BA %.0f ms/run\n",
+                loops.detect_ms / loops.keyframes_checked,
+                loops.consistent_candidates > 0 ? loops.verify_ms / loops.consistent_candidates : 0.0,
+                loops.global_ba.completed > 0 ? loops.global_ba.total_ms / loops.global_ba.completed : 0.0);
   for (const LoopEvent& event : loops.events)
     std::printf("loop keyframe %ld -> %ld at t=%.3f: %d inliers, %d matches, correction %.3f m %.2f deg, %.0f ms\n",
                 event.current_id, event.loop_id, event.timestamp, event.inliers, event.matches, event.correction_m,
