@@ -37,6 +37,7 @@ struct RunArgs {
   bool dense = false;
   std::string debug_frames_dir;
   bool no_relocalization = false;
+  bool no_loop = false;
   std::string save_map;
   std::string load_map;
   bool localization = false;
@@ -127,6 +128,20 @@ void PrintSummary(const std::vector<FrameTiming>& timings, int total_frames, con
   std::printf("frames_tracked %d / %d (processed %zu)\n", tracked, total_frames, timings.size());
   std::printf("points_culled_by_geometry %ld\n", culled);
   std::printf("keyframes %d\nmap_points %d\n", system.num_keyframes(), system.num_map_points());
+  std::printf("relocalizations %d\n", system.relocalizations());
+  const LoopClosingStats loops = system.loop_stats();
+  std::printf("loops_closed %d (keyframes checked %d, candidates verified %d, global BA %d done / %d aborted)\n",
+              loops.loops_closed, loops.keyframes_checked, loops.consistent_candidates, loops.global_ba.completed,
+              loops.global_ba.aborted);
+  if (loops.keyframes_checked > 0)
+    std::printf("loop_timing detection %.2f ms/keyframe, verification %.2f ms/candidate, global BA %.0f ms/run\n",
+                loops.detect_ms / loops.keyframes_checked,
+                loops.consistent_candidates > 0 ? loops.verify_ms / loops.consistent_candidates : 0.0,
+                loops.global_ba.completed > 0 ? loops.global_ba.total_ms / loops.global_ba.completed : 0.0);
+  for (const LoopEvent& event : loops.events)
+    std::printf("loop keyframe %ld -> %ld at t=%.3f: %d inliers, %d matches, correction %.3f m %.2f deg, %.0f ms\n",
+                event.current_id, event.loop_id, event.timestamp, event.inliers, event.matches, event.correction_m,
+                event.correction_deg, event.correct_ms);
 }
 
 void WriteResults(const RunArgs& args, DynamicRun& run, const RunSettings& settings,
@@ -188,6 +203,7 @@ int Run(const RunArgs& args) {
   options.single_thread = args.single_thread;
   options.seed = args.seed;
   if (args.no_relocalization) run_settings.loop.relocalization = false;
+  if (args.no_loop) run_settings.loop.closing = false;
   options.loop = run_settings.loop;
   options.load_map = args.load_map;
   options.tracker.localization_only = args.localization;
@@ -243,6 +259,7 @@ RunFn Setup(CLI::App& app) {
   app.add_option("--seed", args->seed, "Seed for random choices")->capture_default_str();
   app.add_flag("--no-relocalization", args->no_relocalization,
                "Disable BoW relocalization when tracking is LOST (same as Loop.relocalization: 0)");
+  app.add_flag("--no-loop", args->no_loop, "Disable loop closing (same as Loop.closing: 0), e.g. for the ablation");
   app.add_option("--save-map", args->save_map, "Write the final map (keyframes, points) to this binary file");
   auto* load_map = app.add_option("--load-map", args->load_map, "Start from a map saved with --save-map")
                        ->check(CLI::ExistingFile);

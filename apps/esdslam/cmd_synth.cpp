@@ -20,6 +20,8 @@ struct SynthArgs {
   long long seed = -1;
   int movers = -1;
   double depth_noise = -1;
+  double turns = -1;
+  double fps = -1;
 };
 
 int RunSynth(const SynthArgs& args) {
@@ -28,6 +30,8 @@ int RunSynth(const SynthArgs& args) {
   if (args.seed >= 0) options.seed = static_cast<std::uint32_t>(args.seed);
   if (args.movers >= 0) options.num_movers = args.movers;
   if (args.depth_noise >= 0) options.depth_noise_at_1m = args.depth_noise;
+  if (args.turns > 0) options.loop_turns = args.turns;
+  if (args.fps > 0) options.fps = args.fps;
   options.Check();
   spdlog::info("synth: preset {} ({} trajectory, {} frames, {} movers, seed {}) -> {}", args.preset,
                options.trajectory, options.num_frames, options.num_movers, options.seed, args.out_dir);
@@ -43,8 +47,8 @@ int RunSynth(const SynthArgs& args) {
 
 RunFn SetupSynth(CLI::App& app) {
   auto args = std::make_shared<SynthArgs>();
-  app.add_option("--preset", args->preset, "static | dynamic | loop")
-      ->check(CLI::IsMember({"static", "dynamic", "loop"}))
+  app.add_option("--preset", args->preset, "static | dynamic | loop | orbit (loop-closing benchmark)")
+      ->check(CLI::IsMember({"static", "dynamic", "loop", "orbit"}))
       ->capture_default_str();
   app.add_option("--out", args->out_dir, "Output folder (TUM layout)")->required();
   app.add_option("--frames", args->frames, "Number of frames (default: preset's; static/dynamic 240, loop 450)")
@@ -54,6 +58,12 @@ RunFn SetupSynth(CLI::App& app) {
       ->check(CLI::Range(0, 4));
   app.add_option("--depth-noise", args->depth_noise, "Depth noise sigma at 1 m in metres, grows with z^2 (default 0)")
       ->check(CLI::Range(0.0, 0.05));
+  app.add_option("--fps", args->fps, "Frame rate (default 30; the path's duration stays frames / fps)")
+      ->check(CLI::Range(1.0, 120.0));
+  app.add_option("--turns", args->turns,
+                 "loop / orbit: turns around the circle over the sequence (loop 1, orbit 1.35; with --frames "
+                 "1 + 449 x turns the speed of one turn in 450 frames is kept)")
+      ->check(CLI::Range(0.25, 3.0));
   return [args] { return RunSynth(*args); };
 }
 

@@ -116,16 +116,23 @@ std::vector<KeyFrame*> PlaceRecognition::RelocalizationCandidates(const ImageBow
   return live;
 }
 
-std::vector<KeyFrame*> PlaceRecognition::LoopCandidates(KeyFrame* query, const std::vector<KeyFrame*>& neighbours) {
+std::vector<KeyFrame*> PlaceRecognition::LoopCandidates(KeyFrame* query, const std::vector<KeyFrame*>& score_neighbours,
+                                                        const std::vector<KeyFrame*>& excluded) {
   PurgeBadKeyFrames();
   const std::shared_ptr<const ImageBow> bow = KeyFrameBow(query);
   if (bow == nullptr) return {};
-  std::set<long> excluded{query->id()};
+  std::set<long> excluded_ids{query->id()};
+  for (KeyFrame* keyframe : excluded) excluded_ids.insert(keyframe->id());
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto it = keyframes_.upper_bound(query->id()); it != keyframes_.end(); ++it) excluded_ids.insert(it->first);
+  }
   std::vector<long> neighbour_ids;
-  for (KeyFrame* neighbour : neighbours) excluded.insert(neighbour->id()), neighbour_ids.push_back(neighbour->id());
+  for (KeyFrame* neighbour : score_neighbours) neighbour_ids.push_back(neighbour->id());
   const double min_score = database_.MinScore(bow->bow, neighbour_ids);
   std::vector<KeyFrame*> live;
-  for (KeyFrame* keyframe : ToKeyFrames(database_.DetectLoopCandidates(bow->bow, excluded, min_score, NeighbourFunction())))
+  for (KeyFrame* keyframe :
+       ToKeyFrames(database_.DetectLoopCandidates(bow->bow, excluded_ids, min_score, NeighbourFunction())))
     if (!keyframe->is_bad()) live.push_back(keyframe);
   return live;
 }

@@ -57,9 +57,12 @@ class PlaceRecognition {
 
   // Relocalization candidates for a frame, best first (live keyframes only).
   std::vector<KeyFrame*> RelocalizationCandidates(const ImageBow& query);
-  // Loop candidates for an indexed keyframe: its covisible neighbours are excluded and the
-  // minimum score is the lowest score between it and its neighbours (best first).
-  std::vector<KeyFrame*> LoopCandidates(KeyFrame* query, const std::vector<KeyFrame*>& neighbours);
+  // Loop candidates for an indexed keyframe (ORB-SLAM2's DetectLoopCandidates), best first: the
+  // minimum score is the lowest score between it and `score_neighbours` (its covisible
+  // keyframes); `excluded` (its connected keyframes), the query itself and every keyframe newer
+  // than the query (indexed by tracking but not yet seen by loop closing) are never returned.
+  std::vector<KeyFrame*> LoopCandidates(KeyFrame* query, const std::vector<KeyFrame*>& score_neighbours,
+                                        const std::vector<KeyFrame*>& excluded);
 
   const Vocabulary& vocabulary() const { return *vocabulary_; }
   const PlaceRecognitionOptions& options() const { return options_; }

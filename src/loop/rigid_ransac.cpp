@@ -10,8 +10,8 @@
 
 namespace esdslam {
 
-Similarity3 Similarity3::inverse() const {
-  Similarity3 inv;
+Sim3Transform Sim3Transform::inverse() const {
+  Sim3Transform inv;
   const Quat rotation = rigid.rotation().conjugate();
   inv.scale = 1.0 / scale;
   inv.rigid = Rigid3(rotation, -(inv.scale * (rotation * rigid.translation())));
@@ -19,7 +19,7 @@ Similarity3 Similarity3::inverse() const {
 }
 
 bool AlignPointSets(const std::vector<Vec3>& points_a, const std::vector<Vec3>& points_b, bool estimate_scale,
-                    Similarity3* a_from_b) {
+                    Sim3Transform* a_from_b) {
   const std::size_t n = points_a.size();
   if (n < 3 || points_b.size() != n) return false;
   Vec3 mean_a = Vec3::Zero(), mean_b = Vec3::Zero();
@@ -69,8 +69,8 @@ class InlierTest {
   InlierTest(const RigidRansacOptions& options, const PinholeCamera* camera_a, const PinholeCamera* camera_b)
       : options_(options), camera_a_(camera_a), camera_b_(camera_b) {}
 
-  int Select(const std::vector<PointMatch3D>& matches, const Similarity3& a_from_b, std::vector<bool>* inliers) const {
-    const Similarity3 b_from_a = a_from_b.inverse();
+  int Select(const std::vector<PointMatch3D>& matches, const Sim3Transform& a_from_b, std::vector<bool>* inliers) const {
+    const Sim3Transform b_from_a = a_from_b.inverse();
     inliers->assign(matches.size(), false);
     int count = 0;
     for (std::size_t i = 0; i < matches.size(); ++i) {
@@ -95,7 +95,7 @@ class InlierTest {
 };
 
 bool FitSubset(const std::vector<PointMatch3D>& matches, const std::vector<bool>& use, bool estimate_scale,
-               Similarity3* a_from_b) {
+               Sim3Transform* a_from_b) {
   std::vector<Vec3> points_a, points_b;
   for (std::size_t i = 0; i < matches.size(); ++i) {
     if (!use[i]) continue;
@@ -134,7 +134,7 @@ RigidRansacResult EstimateRigidRansac(const std::vector<PointMatch3D>& matches, 
     sample[0] = static_cast<int>(rng() % n);
     do sample[1] = static_cast<int>(rng() % n); while (sample[1] == sample[0]);
     do sample[2] = static_cast<int>(rng() % n); while (sample[2] == sample[0] || sample[2] == sample[1]);
-    Similarity3 model;
+    Sim3Transform model;
     if (!AlignPointSets({matches[sample[0]].point_a, matches[sample[1]].point_a, matches[sample[2]].point_a},
                         {matches[sample[0]].point_b, matches[sample[1]].point_b, matches[sample[2]].point_b},
                         options.estimate_scale, &model))
@@ -149,7 +149,7 @@ RigidRansacResult EstimateRigidRansac(const std::vector<PointMatch3D>& matches, 
   }
   // Refinement: least squares on the inliers, re-select, until the inlier set is stable.
   for (int round = 0; round < options.refine_rounds && result.num_inliers >= 3; ++round) {
-    Similarity3 refined;
+    Sim3Transform refined;
     if (!FitSubset(matches, result.inliers, options.estimate_scale, &refined)) break;
     const int count = test.Select(matches, refined, &inliers);
     if (count < result.num_inliers) break;

@@ -13,19 +13,19 @@
 namespace esdslam {
 
 // p_a = scale * (rotation * p_b) + translation.
-struct Similarity3 {
+struct Sim3Transform {
   Rigid3 rigid;  // rotation and translation
   double scale = 1.0;
 
   Vec3 operator*(const Vec3& point) const { return scale * (rigid.rotation() * point) + rigid.translation(); }
-  Similarity3 inverse() const;
+  Sim3Transform inverse() const;
 };
 
 // Least-squares similarity (or rigid transform when !estimate_scale) a_from_b minimising
 // sum |p_a - T p_b|^2 (Umeyama 1991). Needs >= 3 pairs not all collinear; returns false when
 // degenerate.
 bool AlignPointSets(const std::vector<Vec3>& points_a, const std::vector<Vec3>& points_b, bool estimate_scale,
-                    Similarity3* a_from_b);
+                    Sim3Transform* a_from_b);
 
 struct PointMatch3D {
   Vec3 point_a = Vec3::Zero();  // in frame a (metres)
@@ -59,7 +59,7 @@ struct RigidRansacOptions {
 
 struct RigidRansacResult {
   bool success = false;  // num_inliers >= min_inliers
-  Similarity3 a_from_b;
+  Sim3Transform a_from_b;
   std::vector<bool> inliers;  // per match
   int num_inliers = 0;
   int iterations = 0;

@@ -39,17 +39,54 @@ int LocalMapper::QueuedKeyFrames() const {
   return threaded_ ? static_cast<int>(queue_.Size()) : static_cast<int>(sync_queue_.size());
 }
 
+bool LocalMapper::ReserveKeyFrame() {
+  std::lock_guard<std::mutex> lock(pause_mutex_);
+  if (pause_requests_ > 0) return false;
+  ++reserved_;
+  in_flight_ = ++in_flight_locked_;
+  return true;
+}
+
 void LocalMapper::InsertKeyFrame(KeyFrame* keyframe) {
   abort_ba_ = true;
+  {
+    std::lock_guard<std::mutex> lock(pause_mutex_);
+    if (reserved_ > 0) --reserved_;
+    else in_flight_ = ++in_flight_locked_;
+  }
   if (!threaded_) {
     sync_queue_.push_back(keyframe);
     return;
   }
-  ++in_flight_;
   if (!queue_.Push(keyframe)) {
-    --in_flight_;
+    FinishKeyFrame();
     throw Error("local mapping: keyframe inserted after Close()");
   }
+}
+
+void LocalMapper::FinishKeyFrame() {
+  std::lock_guard<std::mutex> lock(pause_mutex_);
+  in_flight_ = --in_flight_locked_;
+  pause_cv_.notify_all();
+}
+
+void LocalMapper::Pause() {
+  if (!threaded_) {
+    // Synchronous mode: the caller's thread is the mapping thread; finish the queue now.
+    ProcessQueued();
+    std::lock_guard<std::mutex> lock(pause_mutex_);
+    ++pause_requests_;
+    return;
+  }
+  std::unique_lock<std::mutex> lock(pause_mutex_);
+  ++pause_requests_;
+  abort_ba_ = true;
+  pause_cv_.wait(lock, [&] { return in_flight_locked_ == 0; });
+}
+
+void LocalMapper::Resume() {
+  std::lock_guard<std::mutex> lock(pause_mutex_);
+  if (pause_requests_ > 0) --pause_requests_;
 }
 
 void LocalMapper::ProcessQueued() {
@@ -57,6 +94,7 @@ void LocalMapper::ProcessQueued() {
     KeyFrame* keyframe = sync_queue_.front();
     sync_queue_.pop_front();
     ProcessKeyFrame(keyframe);
+    FinishKeyFrame();
   }
 }
 
@@ -68,7 +106,10 @@ void LocalMapper::Close(bool drop_pending) {
     queue_.Close();
     if (worker_.joinable()) worker_.join();
     // Never started: drain here so the map stays consistent.
-    while (auto keyframe = queue_.TryPop()) ProcessKeyFrame(*keyframe);
+    while (auto keyframe = queue_.TryPop()) {
+      ProcessKeyFrame(*keyframe);
+      FinishKeyFrame();
+    }
   } else {
     ProcessQueued();
   }
@@ -87,7 +128,7 @@ void LocalMapper::Run() {
       std::lock_guard<std::mutex> lock(stats_mutex_);
       if (worker_error_.empty()) worker_error_ = e.what();
     }
-    --in_flight_;
+    FinishKeyFrame();
     idle_ = true;
   }
 }
@@ -116,6 +157,7 @@ void LocalMapper::ProcessKeyFrame(KeyFrame* keyframe) {
     std::lock_guard<std::mutex> lock(map_->update_mutex());
     delta.keyframes_culled = CullRedundantKeyFrames(map_, keyframe, options_.redundant_culling);
   }
+  if (downstream_ && !keyframe->is_bad()) downstream_(keyframe);
   std::lock_guard<std::mutex> lock(stats_mutex_);
   stats_.keyframes_processed += 1;
   stats_.points_created += delta.points_created;

@@ -7,9 +7,16 @@
 // polling). Synchronous mode: InsertKeyFrame only queues; the owner calls ProcessQueued() on its
 // own thread (deterministic runs and tests). Close() processes every queued keyframe (or, with
 // drop_pending, only inserts them into the map without further work) and joins the worker.
+// Each processed keyframe is handed to the downstream consumer (loop closing), if set.
+//
+// Pause (MappingControl, for loop closing and the global BA merge): new reservations are refused
+// and Pause returns once every reserved or inserted keyframe has been processed; tracking creates
+// no keyframe until Resume.
 
 #include <atomic>
+#include <condition_variable>
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -43,19 +50,27 @@ struct LocalMapperStats {
   int bundle_adjustments_aborted = 0;
 };
 
-class LocalMapper : public KeyFrameSink {
+class LocalMapper : public KeyFrameSink, public MappingControl {
  public:
   LocalMapper(Map* map, const LocalMapperOptions& options, bool threaded);
   ~LocalMapper() override;
   LocalMapper(const LocalMapper&) = delete;
   LocalMapper& operator=(const LocalMapper&) = delete;
 
+  // Receives every keyframe after local mapping processed it (on the mapping thread, or the
+  // caller's in synchronous mode); must not block. Set before Start().
+  void SetDownstream(std::function<void(KeyFrame*)> downstream) { downstream_ = std::move(downstream); }
   void Start();  // launches the worker thread (threaded mode; no-op otherwise)
 
   bool AcceptsKeyFrames() const override;
   int QueuedKeyFrames() const override;
   void InterruptBundleAdjustment() override { abort_ba_ = true; }
+  bool ReserveKeyFrame() override;
+  // Without a prior reservation the keyframe counts as reserved now (even during a pause).
   void InsertKeyFrame(KeyFrame* keyframe) override;
+
+  void Pause() override;
+  void Resume() override;
 
   // Synchronous mode: processes every queued keyframe now, on the caller's thread (which must not
   // hold the map update mutex).
@@ -69,6 +84,7 @@ class LocalMapper : public KeyFrameSink {
  private:
   void Run();
   void ProcessKeyFrame(KeyFrame* keyframe);
+  void FinishKeyFrame();  // one in-flight keyframe done
   bool MoreWaiting() const;
 
   Map* map_;
@@ -80,7 +96,15 @@ class LocalMapper : public KeyFrameSink {
   std::atomic<bool> idle_{true};
   std::atomic<bool> abort_ba_{false};
   std::atomic<bool> drop_pending_{false};
-  std::atomic<int> in_flight_{0};  // keyframes inserted but not yet finished
+  std::function<void(KeyFrame*)> downstream_;
+  // Pause state, under pause_mutex_: keyframes reserved or inserted and not finished, reserved
+  // but not yet inserted, pause requests. in_flight_ mirrors in_flight for lock-free reads.
+  mutable std::mutex pause_mutex_;
+  std::condition_variable pause_cv_;
+  int in_flight_locked_ = 0;
+  int reserved_ = 0;
+  int pause_requests_ = 0;
+  std::atomic<int> in_flight_{0};
   std::vector<MapPoint*> recent_points_;  // worker-owned
   mutable std::mutex stats_mutex_;
   LocalMapperStats stats_;

@@ -2,9 +2,11 @@
 // Options of the synthetic RGB-D scene generator (see synth/synthetic_scene.h).
 //
 // The scene is a textured 6 x 5 x 3 m room with static furniture; the camera follows a known
-// smooth path ("arc": a walk along an arc looking into the room, or "loop": a closed circle
-// looking outwards that ends exactly at its start pose); optional human-sized boxes walk back
-// and forth through the view. Everything is deterministic given `seed`.
+// smooth path ("arc": a walk along an arc looking into the room; "loop": a small circle looking
+// outwards; "orbit": a walk around the room centre looking at it; loop and orbit make
+// `loop_turns` turns over the sequence, one turn ending exactly at its start pose); optional
+// human-sized boxes walk back and forth through the view. Everything is deterministic given
+// `seed`.
 
 #include <cstdint>
 #include <string>
@@ -20,7 +22,10 @@ struct SynthOptions {
   double first_timestamp = 100.0;   // seconds
   // Pinhole camera without distortion (k1..k3 = 0 are required). Default: 640x480, f = 525.
   CameraIntrinsics intrinsics = DefaultIntrinsics();
-  std::string trajectory = "arc";   // "arc" or "loop"
+  std::string trajectory = "arc";   // "arc", "loop" or "orbit" (no movers)
+  // Loop and orbit: turns around the circle over the sequence (the path is periodic per turn). More
+  // than 1 revisits the start: the place is seen again for (turns - 1) of a turn.
+  double loop_turns = 1.0;
   int num_movers = 0;               // moving people (boxes); 0 = static scene. arc: <= 4, loop: <= 4
   double mover_scale = 1.0;         // size factor of a mover (1 = 0.5 wide x 0.3 deep x 1.7 m tall)
   double mover_speed = 1.1;         // mean walking speed, m/s (each mover varies +-20 %)
@@ -39,7 +44,8 @@ struct SynthOptions {
 };
 
 // Named presets: "static" (arc, no movers, 240 frames), "dynamic" (arc, 3 movers, 240 frames),
-// "loop" (closed loop, no movers, 450 frames). Throws Error on an unknown name.
+// "loop" (closed loop, no movers, 450 frames), "orbit" (1.35 turns around the room centre, 607
+// frames, depth noise 0.008 z^2: the loop-closing benchmark). Throws Error on an unknown name.
 SynthOptions SynthPreset(const std::string& name);
 
 }  // namespace esdslam

@@ -41,7 +41,7 @@ Rigid3 ArcPose(const SynthOptions& options, double time) {
 }
 
 Rigid3 LoopPose(const SynthOptions& options, double time) {
-  const double s = time / Duration(options);  // 0 .. 1 over the loop
+  const double s = options.loop_turns * time / Duration(options);  // turns done: 0 .. loop_turns
   const double alpha = kTwoPi * s;
   const double radius = 0.5;
   const double bob = 0.015 * std::sin(kTwoPi * 24 * s);
@@ -52,10 +52,27 @@ Rigid3 LoopPose(const SynthOptions& options, double time) {
   return Rigid3(WorldFromCamRotation(heading, pitch, roll), position);
 }
 
+// A walk around a 1.3 m circle about the room centre, looking at the centre and slightly down
+// (the far half of the room 3.5-4.5 m away, floor and furniture nearer): rotation and
+// translation together, near and far points, as when scanning a room. Periodic per turn.
+Rigid3 OrbitPose(const SynthOptions& options, double time) {
+  const double s = options.loop_turns * time / Duration(options);  // turns done
+  const double alpha = kTwoPi * s;
+  const double radius = 1.3;
+  const double bob = 0.015 * std::sin(kTwoPi * 24 * s);
+  const Vec3 position(radius * std::sin(alpha), -radius * std::cos(alpha), 1.45 + bob);
+  const double heading = M_PI / 2 + alpha + 0.06 * std::sin(kTwoPi * 3 * s);
+  const double pitch = -0.2 + 0.04 * std::sin(kTwoPi * 4 * s);
+  const double roll = 0.03 * std::sin(kTwoPi * 3 * s);
+  return Rigid3(WorldFromCamRotation(heading, pitch, roll), position);
+}
+
 }  // namespace
 
 Rigid3 CameraPoseAt(const SynthOptions& options, double time) {
-  return options.trajectory == "loop" ? LoopPose(options, time) : ArcPose(options, time);
+  if (options.trajectory == "loop") return LoopPose(options, time);
+  if (options.trajectory == "orbit") return OrbitPose(options, time);
+  return ArcPose(options, time);
 }
 
 Vec3 MoverHalfSize(const SynthOptions& options) {

@@ -14,8 +14,11 @@ namespace esdslam {
 // world_from_cam of the camera (x right, y down, z forward) at `time`.
 // "arc": a 2.6 m walk along an arc south of the room centre, heading towards the room centre,
 //   with a gentle yaw/pitch/roll wobble and a 1.5 cm step bob (about 0.33 m/s, <= 20 deg/s at
-//   the defaults). "loop": one turn around a 0.5 m circle around the room centre, looking
-//   outwards, ending exactly at its start pose (all wobble terms are periodic over the loop).
+//   the defaults). "loop": options.loop_turns turns around a 0.5 m circle around the room centre,
+//   looking outwards; one turn ends exactly at its start pose (all wobble terms are periodic
+//   over a turn). "orbit": options.loop_turns turns around a 1.3 m circle around the room
+//   centre, looking at the centre and slightly down (about 0.54 m/s and 24 deg/s at 450 frames
+//   per turn).
 Rigid3 CameraPoseAt(const SynthOptions& options, double time);
 
 // A mover walks back and forth along a lane parallel to the x axis: x(t) = A sin(omega t + phase).

@@ -11,7 +11,9 @@ namespace esdslam {
 void LoopOptions::Check() const {
   places.Check();
   relocalizer.Check();
-  if (relocalization && vocabulary.empty()) throw Error("LoopOptions: relocalization needs a vocabulary path");
+  closer.Check();
+  if (needs_vocabulary() && vocabulary.empty())
+    throw Error("LoopOptions: relocalization and loop closing need a vocabulary path");
 }
 
 void BindLoopSettings(LoopOptions& options, SettingsTable& table) {
@@ -21,6 +23,12 @@ void BindLoopSettings(LoopOptions& options, SettingsTable& table) {
   table.Add("Loop.relocMinInliers", &options.relocalizer.min_final_inliers);
   table.Add("Loop.relocMaxCandidates", &options.relocalizer.max_candidates);
   table.Add("Loop.relocRatio", &options.relocalizer.bow.ratio);
+  table.Add("Loop.closing", &options.closing);
+  table.Add("Loop.globalBA", &options.closer.global_bundle_adjustment);
+  table.Add("Loop.consistency", &options.closer.consistency_threshold);
+  table.Add("Loop.minInliers", &options.closer.verification.min_refined_inliers);
+  table.Add("Loop.minMatches", &options.closer.verification.min_total_matches);
+  table.Add("Loop.essentialMinCovisibility", &options.closer.essential_min_covisibility);
 }
 
 std::shared_ptr<const Vocabulary> LoadVocabulary(const std::string& path, const std::string& settings_dir) {

@@ -16,6 +16,7 @@ class PlaceIndexingSink : public KeyFrameSink {
   bool AcceptsKeyFrames() const override { return next_->AcceptsKeyFrames(); }
   int QueuedKeyFrames() const override { return next_->QueuedKeyFrames(); }
   void InterruptBundleAdjustment() override { next_->InterruptBundleAdjustment(); }
+  bool ReserveKeyFrame() override { return next_->ReserveKeyFrame(); }
   void InsertKeyFrame(KeyFrame* keyframe) override {
     places_->AddKeyFrame(keyframe);
     next_->InsertKeyFrame(keyframe);

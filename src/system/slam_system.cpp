@@ -29,11 +29,17 @@ SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
   map_ = std::make_unique<Map>();
   mapper_ = std::make_unique<LocalMapper>(map_.get(), options_.mapping, !options_.single_thread);
   KeyFrameSink* sink = mapper_.get();
-  if (options_.loop.relocalization) {
+  if (options_.loop.needs_vocabulary()) {
     places_ = std::make_unique<PlaceRecognition>(LoadVocabulary(options_.loop.vocabulary), options_.loop.places);
     indexing_sink_ = std::make_unique<PlaceIndexingSink>(mapper_.get(), places_.get());
     sink = indexing_sink_.get();
+  }
+  if (options_.loop.relocalization)
     relocalizer_ = std::make_unique<Relocalizer>(places_.get(), options_.loop.relocalizer);
+  if (options_.loop.closing && !options_.tracker.localization_only) {
+    loop_closer_ = std::make_unique<LoopCloser>(map_.get(), places_.get(), mapper_.get(), options_.loop.closer,
+                                                !options_.single_thread);
+    mapper_->SetDownstream([closer = loop_closer_.get()](KeyFrame* keyframe) { closer->InsertKeyFrame(keyframe); });
   }
   tracker_ = std::make_unique<Tracker>(map_.get(), sink, options_.tracker);
   tracker_->set_relocalizer(relocalizer_.get());
@@ -47,9 +53,11 @@ SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
     tracker_->StartInExistingMap();
   }
   mapper_->Start();
-  spdlog::info("slam: {} mode, close depth < {:.2f} m, keyframe at least every {} frames",
-               options_.single_thread ? "single-thread" : "two-thread", rig_->th_depth_m,
-               options_.tracker.max_frames_between_keyframes);
+  if (loop_closer_) loop_closer_->Start();
+  spdlog::info("slam: {} mode, close depth < {:.2f} m, keyframe at least every {} frames, relocalization {}, "
+               "loop closing {}",
+               options_.single_thread ? "single-thread" : "threaded", rig_->th_depth_m,
+               options_.tracker.max_frames_between_keyframes, relocalizer_ ? "on" : "off", loop_closer_ ? "on" : "off");
 }
 
 SlamSystem::~SlamSystem() {
@@ -80,7 +88,10 @@ TrackOutcome SlamSystem::TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, d
     outcome.geometry_covered = geometry.covered;
     outcome.geometry_window_px = geometry.skipped_fast_motion ? -1 : geometry.window_radius_px;
   }
-  if (options_.single_thread) mapper_->ProcessQueued();
+  if (options_.single_thread) {
+    mapper_->ProcessQueued();
+    if (loop_closer_) loop_closer_->ProcessQueued();
+  }
   outcome.track_ms = watch.ElapsedMs();
   outcome.state = result.state;
   outcome.has_pose = result.has_pose;
@@ -101,12 +112,32 @@ TrackOutcome SlamSystem::TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, d
 void SlamSystem::Shutdown() {
   if (shut_down_) return;
   shut_down_ = true;
-  mapper_->Close();
+  std::string error;  // loop closing is still finished when local mapping failed
+  try {
+    mapper_->Close();
+  } catch (const Error& e) {
+    error = e.what();
+  }
+  try {
+    if (loop_closer_) loop_closer_->Close();
+  } catch (const Error& e) {
+    if (error.empty()) error = e.what();
+  }
   const LocalMapperStats stats = mapper_->stats();
   spdlog::debug("local mapping: {} keyframes, {} points created, {} culled, {} keyframes culled, {} BA ({} aborted)",
                 stats.keyframes_processed, stats.points_created, stats.points_culled, stats.keyframes_culled,
                 stats.bundle_adjustments, stats.bundle_adjustments_aborted);
+  if (loop_closer_) {
+    const LoopClosingStats loops = loop_closer_->stats();
+    spdlog::info("loop closing: {} keyframes checked, {} consistent candidates, {} loops closed, global BA {} "
+                 "completed / {} aborted",
+                 loops.keyframes_checked, loops.consistent_candidates, loops.loops_closed, loops.global_ba.completed,
+                 loops.global_ba.aborted);
+  }
+  if (!error.empty()) throw Error(error);
 }
+
+LoopClosingStats SlamSystem::loop_stats() const { return loop_closer_ ? loop_closer_->stats() : LoopClosingStats{}; }
 
 MapFileSummary SlamSystem::SaveMap(const std::string& path) {
   std::lock_guard<std::mutex> lock(map_->update_mutex());

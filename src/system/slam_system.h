@@ -1,7 +1,9 @@
 #pragma once
 // The SLAM system: owns the map, the ORB extractor, the tracker (run on the caller's thread by
-// TrackRgbd) and the local-mapping thread (or, in single-thread mode, local mapping run on the
-// caller's thread right after each tracking step, which makes runs exactly repeatable).
+// TrackRgbd), the local-mapping thread and the loop-closing thread (with its global-BA thread);
+// in single-thread mode local mapping and loop closing (global BA included) run on the caller's
+// thread right after each tracking step, which makes runs exactly repeatable.
+// Hand-offs: tracking -> (BoW indexing) -> local mapping -> loop closing (docs/CORE.md).
 //
 // Trajectory: every tracked frame is stored relative to its reference keyframe (ORB-SLAM2), so
 // the output reflects later keyframe corrections by BA; world = the first keyframe's camera.
@@ -33,7 +35,7 @@ struct SlamOptions {
   TrackerOptions tracker;      // max_frames_between_keyframes is set from Settings::fps
   LocalMapperOptions mapping;
   FrameOptions frame;
-  LoopOptions loop;            // place recognition and relocalization (system/loop_settings.h)
+  LoopOptions loop;            // place recognition, relocalization, loop closing (system/loop_settings.h)
   bool geometry_check = false; // multi-view geometry check in tracking (tracking/geometry_filter.h)
   GeometryFilterOptions geometry;
   // Map file to start from (map/map_serialization.h): tracking starts LOST and relocalizes in it.
@@ -72,7 +74,8 @@ class SlamSystem {
   TrackOutcome TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, double timestamp,
                          const cv::Mat& dynamic_mask = cv::Mat(), const cv::Mat& geometry_exempt = cv::Mat());
 
-  // Finishes local mapping (processes queued keyframes) and joins its thread. Idempotent.
+  // Finishes local mapping, then loop closing (processes queued keyframes, waits for a running
+  // global BA) and joins their threads. Idempotent. Throws Error when a worker failed.
   void Shutdown();
   // Writes the live keyframes and points (call after Shutdown for the final map). Throws Error.
   MapFileSummary SaveMap(const std::string& path);
@@ -88,7 +91,9 @@ class SlamSystem {
   int frames_seen() const { return static_cast<int>(next_frame_id_); }
   LocalMapperStats mapping_stats() const { return mapper_->stats(); }
   int relocalizations() const { return tracker_->relocalizations(); }
-  // Null when relocalization is disabled.
+  // Empty (all zero) when loop closing is off.
+  LoopClosingStats loop_stats() const;
+  // Null when relocalization and loop closing are disabled.
   PlaceRecognition* place_recognition() { return places_.get(); }
   // Null unless SlamOptions::geometry_check; last() describes the last TrackRgbd call.
   const GeometryFilter* geometry_filter() const { return geometry_filter_.get(); }
@@ -110,10 +115,11 @@ class SlamSystem {
   std::shared_ptr<const RgbdRig> rig_;
   std::unique_ptr<Map> map_;
   std::unique_ptr<LocalMapper> mapper_;
-  std::unique_ptr<PlaceRecognition> places_;          // null without relocalization
+  std::unique_ptr<PlaceRecognition> places_;          // null without relocalization and loop closing
   std::unique_ptr<PlaceIndexingSink> indexing_sink_;  // tracking -> (BoW indexing) -> local mapping
   std::unique_ptr<Relocalizer> relocalizer_;
   std::unique_ptr<GeometryFilter> geometry_filter_;  // null without the geometry check
+  std::unique_ptr<LoopCloser> loop_closer_;  // null without loop closing or in localization mode
   std::unique_ptr<Tracker> tracker_;
   long next_frame_id_ = 0;
   mutable std::mutex records_mutex_;

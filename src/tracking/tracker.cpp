@@ -28,7 +28,9 @@ void TrackerOptions::Check() const {
     throw Error("tracker: keyframe frame limits must be positive");
   if (!(motion_search_radius_px > 0) || !(local_search_radius_factor > 0))
     throw Error("tracker: search radii must be positive");
-  if (min_local_map_inliers < 3 || min_pose_matches < 3) throw Error("tracker: inlier thresholds must be >= 3");
+  if (min_local_map_inliers < 3 || min_pose_matches < 3 || relocalized_min_inliers < 3)
+    throw Error("tracker: inlier thresholds must be >= 3");
+  if (!(relocalized_search_radius_factor > 0)) throw Error("tracker: relocalized_search_radius_factor must be positive");
   pose.Check();
 }
 
@@ -59,7 +61,10 @@ TrackingResult Tracker::Track(Frame* frame) {
       if (tracked && geometry_filter_ != nullptr) FilterMovingKeypoints(frame);
       if (tracked) tracked = TrackLocalMap(frame);
       state_ = tracked ? TrackingState::kOk : TrackingState::kLost;
-      if (tracked && !options_.localization_only && NeedNewKeyFrame(*frame)) result.new_keyframe = CreateNewKeyFrame(frame);
+      // No keyframe while local mapping is paused for a loop correction (reservation refused).
+      if (tracked && !options_.localization_only && NeedNewKeyFrame(*frame) &&
+          (sink_ == nullptr || sink_->ReserveKeyFrame()))
+        result.new_keyframe = CreateNewKeyFrame(frame);
     }
     if (result.new_keyframe != nullptr && geometry_filter_ != nullptr) geometry_filter_->AddKeyFrame(*result.new_keyframe, *frame);
     Finish(frame, tracked);
@@ -176,7 +181,12 @@ bool Tracker::TrackReferenceKeyFrame(Frame* frame) {
   frame->map_points = best_associations;
   std::fill(frame->outlier.begin(), frame->outlier.end(), false);
   if (best_matches < 15) return false;
-  frame->cam_from_world = has_last_good_pose_ ? last_good_cam_from_world_ : reference_keyframe_->cam_from_world();
+  // Start from the last tracked pose, re-derived from its reference keyframe (which local BA or a
+  // loop correction may have moved since).
+  Rigid3 cam_from_good_reference = last_good_cam_from_reference_;
+  KeyFrame* good_reference = LiveAncestor(last_good_reference_, &cam_from_good_reference);
+  frame->cam_from_world = good_reference != nullptr ? cam_from_good_reference * good_reference->cam_from_world()
+                                                    : reference_keyframe_->cam_from_world();
   OptimizePose(frame);
   return DiscardOutliers(frame) >= options_.min_pose_matches;
 }
@@ -244,10 +254,10 @@ void Tracker::Finish(Frame* frame, bool tracked) {
       if (frame->outlier[i] || point->num_observations() < 1) frame->map_points[i] = nullptr;
       frame->outlier[i] = false;
     }
-    has_last_good_pose_ = true;
-    last_good_cam_from_world_ = frame->cam_from_world;
     if (frame->reference_keyframe == nullptr) frame->reference_keyframe = reference_keyframe_;
     last_cam_from_reference_ = frame->cam_from_world * frame->reference_keyframe->world_from_cam();
+    last_good_reference_ = frame->reference_keyframe;
+    last_good_cam_from_reference_ = last_cam_from_reference_;
   } else {
     velocity_valid_ = false;
     std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);

@@ -8,7 +8,9 @@
 // without a pose get none (no pose is invented).
 //
 // Locking: Track() holds Map::update_mutex() for the whole step; new keyframes are handed to the
-// KeyFrameSink after the lock is released.
+// KeyFrameSink after the lock is released. Poses carried between frames (last frame, last tracked
+// pose) are kept relative to their reference keyframes, so they follow map corrections (local BA,
+// loop closing, global BA); the motion model is a relative motion and needs no correction.
 
 #include <memory>
 #include <vector>
@@ -39,6 +41,13 @@ struct TrackerOptions {
   bool last_frame_depth_points = true;    // temporary points from the last frame's close depth
   int max_depth_points = 100;             // close points per keyframe / temporary points
   bool localization_only = false;         // never insert keyframes (tracking in a fixed, loaded map)
+  // For max_frames_between_keyframes frames (1 s) after a BoW relocalization the relocalized pose
+  // rests on the few old points in view: tracking needs this many local-map inliers (ORB-SLAM2:
+  // 50) and creates no keyframe (ORB-SLAM2 exempts maps with <= 1 s of keyframes; we do not:
+  // keyframes made at once bake the relocalization error into a new sub-map that later fails to
+  // re-match the old one). The local-map window is widened to this factor for 2 frames (ORB-SLAM2: 5).
+  int relocalized_min_inliers = 50;
+  double relocalized_search_radius_factor = 5;
   PoseOptimizerOptions pose;
   void Check() const;
 };
@@ -94,6 +103,10 @@ class Tracker {
   void UpdateLocalPoints(const Frame& frame);
   void SearchLocalPoints(Frame* frame);
   bool NeedNewKeyFrame(const Frame& frame) const;
+  // Within max_frames_between_keyframes frames after a relocalization (frame ids).
+  bool RecentlyRelocalized(const Frame& frame, long frames) const {
+    return last_relocalization_frame_id_ >= 0 && frame.id() < last_relocalization_frame_id_ + frames;
+  }
   KeyFrame* CreateNewKeyFrame(Frame* frame);
   MapPoint* CreatePointFromDepth(KeyFrame* keyframe, const Frame& frame, int index);
 
@@ -106,11 +119,12 @@ class Tracker {
   Rigid3 last_cam_from_reference_;  // last_frame_'s pose relative to its reference keyframe
   bool velocity_valid_ = false;
   Rigid3 velocity_;  // current cam_from_last cam
-  bool has_last_good_pose_ = false;
-  Rigid3 last_good_cam_from_world_;
+  KeyFrame* last_good_reference_ = nullptr;  // the last tracked frame's reference (null: none yet)
+  Rigid3 last_good_cam_from_reference_;
   KeyFrame* reference_keyframe_ = nullptr;
   KeyFrame* last_keyframe_ = nullptr;
   long last_keyframe_frame_id_ = -1;
+  long last_relocalization_frame_id_ = -1;  // -1: none
   int inliers_ = 0;
   std::vector<KeyFrame*> local_keyframes_;
   std::vector<MapPoint*> local_points_;

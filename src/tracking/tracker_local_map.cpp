@@ -21,6 +21,8 @@ bool Tracker::TrackLocalMap(Frame* frame) {
     point->IncreaseFound();
     if (point->num_observations() > 0) ++inliers_;
   }
+  if (RecentlyRelocalized(*frame, options_.max_frames_between_keyframes))
+    return inliers_ >= std::max(options_.min_local_map_inliers, options_.relocalized_min_inliers);
   return inliers_ >= options_.min_local_map_inliers;
 }
 
@@ -101,12 +103,15 @@ void Tracker::SearchLocalPoints(Frame* frame) {
       ++in_view;
     }
   }
-  if (in_view > 0) esdslam::SearchLocalPoints(frame, local_points_, options_.local_search_radius_factor);
+  const double radius_factor = RecentlyRelocalized(*frame, 2) ? options_.relocalized_search_radius_factor
+                                                             : options_.local_search_radius_factor;
+  if (in_view > 0) esdslam::SearchLocalPoints(frame, local_points_, radius_factor);
 }
 
 // ORB-SLAM2's RGB-D rule: insert when the frame tracks few close points but could add many, or
 // when too many frames passed, or tracking weakened relative to the reference keyframe.
 bool Tracker::NeedNewKeyFrame(const Frame& frame) const {
+  if (RecentlyRelocalized(frame, options_.max_frames_between_keyframes)) return false;
   const int num_keyframes = map_->num_keyframes();
   const int min_observations = num_keyframes <= 2 ? 2 : 3;
   const int reference_matches = reference_keyframe_->TrackedMapPoints(min_observations);

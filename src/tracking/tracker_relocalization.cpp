@@ -17,6 +17,7 @@ bool Tracker::Relocalize(Frame* frame) {
   if (last_keyframe_ == nullptr) last_keyframe_ = keyframe;  // loaded map: none created yet
   velocity_valid_ = false;
   ++relocalizations_;
+  last_relocalization_frame_id_ = frame->id();
   spdlog::info("tracking: relocalized frame {} against keyframe {} ({} inliers)", frame->id(), keyframe->id(),
                stats.inliers);
   return true;

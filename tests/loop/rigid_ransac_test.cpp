@@ -20,10 +20,10 @@ PinholeCamera TestCamera() {
 }
 
 // 100 matches of points seen by both cameras; the first 40 % are outliers (point_b moved).
-std::vector<PointMatch3D> MakeMatches(const Similarity3& a_from_b, const PinholeCamera& camera, std::uint32_t seed) {
+std::vector<PointMatch3D> MakeMatches(const Sim3Transform& a_from_b, const PinholeCamera& camera, std::uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0), depth(1.0, 4.0);
-  const Similarity3 b_from_a = a_from_b.inverse();
+  const Sim3Transform b_from_a = a_from_b.inverse();
   std::vector<PointMatch3D> matches;
   while (matches.size() < 100) {
     PointMatch3D m;
@@ -41,14 +41,14 @@ std::vector<PointMatch3D> MakeMatches(const Similarity3& a_from_b, const Pinhole
   return matches;
 }
 
-Similarity3 KnownTransform(double scale) {
-  Similarity3 t;
+Sim3Transform KnownTransform(double scale) {
+  Sim3Transform t;
   t.rigid = Rigid3(ExpSO3(Vec3(0.1, -0.25, 0.15)), Vec3(0.3, -0.1, 0.2));
   t.scale = scale;
   return t;
 }
 
-void ExpectRecovered(const RigidRansacResult& result, const Similarity3& truth) {
+void ExpectRecovered(const RigidRansacResult& result, const Sim3Transform& truth) {
   ASSERT_TRUE(result.success);
   EXPECT_LT((result.a_from_b.rigid.translation() - truth.rigid.translation()).norm(), 1e-3);
   EXPECT_LT(RotationAngle(result.a_from_b.rigid.rotation().conjugate() * truth.rigid.rotation()), 0.01 * kDegree);
@@ -59,7 +59,7 @@ void ExpectRecovered(const RigidRansacResult& result, const Similarity3& truth) 
 
 TEST(RigidRansacTest, RecoversTransformWithFortyPercentOutliersReprojection) {
   const PinholeCamera camera = TestCamera();
-  const Similarity3 truth = KnownTransform(1.0);
+  const Sim3Transform truth = KnownTransform(1.0);
   const RigidRansacResult result = EstimateRigidRansac(MakeMatches(truth, camera, 1), RigidRansacOptions(), &camera, &camera);
   ExpectRecovered(result, truth);
   EXPECT_LT(result.iterations, 100);  // adaptive stop at 60 % inliers: ~19 samples
@@ -67,7 +67,7 @@ TEST(RigidRansacTest, RecoversTransformWithFortyPercentOutliersReprojection) {
 
 TEST(RigidRansacTest, RecoversTransformMetricMode) {
   const PinholeCamera camera = TestCamera();
-  const Similarity3 truth = KnownTransform(1.0);
+  const Sim3Transform truth = KnownTransform(1.0);
   RigidRansacOptions options;
   options.mode = RigidRansacOptions::ErrorMode::kMetric;
   options.max_error_m = 0.02;
@@ -76,7 +76,7 @@ TEST(RigidRansacTest, RecoversTransformMetricMode) {
 
 TEST(RigidRansacTest, RecoversScaleWhenAsked) {
   const PinholeCamera camera = TestCamera();
-  const Similarity3 truth = KnownTransform(1.25);
+  const Sim3Transform truth = KnownTransform(1.25);
   RigidRansacOptions options;
   options.estimate_scale = true;
   ExpectRecovered(EstimateRigidRansac(MakeMatches(truth, camera, 3), options, &camera, &camera), truth);
@@ -95,11 +95,11 @@ TEST(RigidRansacTest, SameSeedSameResultAndFailsOnPureOutliers) {
 }
 
 TEST(AlignPointSetsTest, ExactOnThreePointsAndRejectsCollinear) {
-  const Similarity3 truth = KnownTransform(1.0);
+  const Sim3Transform truth = KnownTransform(1.0);
   const std::vector<Vec3> b{Vec3(0, 0, 1), Vec3(1, 0, 2), Vec3(0, 1, 3)};
   std::vector<Vec3> a;
   for (const Vec3& p : b) a.push_back(truth * p);
-  Similarity3 estimate;
+  Sim3Transform estimate;
   ASSERT_TRUE(AlignPointSets(a, b, false, &estimate));
   EXPECT_LT((estimate.rigid.translation() - truth.rigid.translation()).norm(), 1e-9);
   const std::vector<Vec3> collinear{Vec3(0, 0, 1), Vec3(1, 1, 1), Vec3(2, 2, 1)};

@@ -2,6 +2,7 @@
 // Test helpers shared by the core's tests (map, tracking, mapping, system): hand-built feature
 // sets and keyframes with known geometry, and settings for the synthetic scenes.
 
+#include <algorithm>
 #include <memory>
 #include <random>
 #include <vector>
@@ -11,6 +12,9 @@
 #include "camera/pinhole_camera.h"
 #include "feature/feature_grid.h"
 #include "map/feature_set.h"
+#include "map/keyframe.h"
+#include "map/map.h"
+#include "map/map_point.h"
 
 namespace esdslam::testing {
 
@@ -88,5 +92,48 @@ inline std::vector<Vec3> RandomLandmarks(int n, unsigned seed = 3) {
   for (int i = 0; i < n; ++i) out.emplace_back(x(rng), y(rng), z(rng));
   return out;
 }
+
+// Keyframes along x looking at the same landmarks; each keyframe keypoint k sees landmark ids[k].
+struct LandmarkScene {
+  Map map;
+  std::vector<Vec3> landmarks;
+  cv::Mat descriptors;
+  std::vector<KeyFrame*> keyframes;
+  std::vector<std::vector<int>> landmark_of_keypoint;
+
+  LandmarkScene(int num_landmarks, int num_keyframes, double spacing_m, bool with_depth) {
+    landmarks = RandomLandmarks(num_landmarks);
+    descriptors = RandomDescriptors(num_landmarks);
+    for (int k = 0; k < num_keyframes; ++k) AddKeyFrame(Rigid3(Quat::Identity(), Vec3(-spacing_m * k, 0, 0)), with_depth);
+  }
+  // A keyframe at `cam_from_world` seeing the landmarks (its pose in the map may differ later).
+  KeyFrame* AddKeyFrame(const Rigid3& cam_from_world, bool with_depth) {
+    std::vector<int> ids;
+    auto features = ProjectLandmarks(landmarks, descriptors, cam_from_world, with_depth, &ids);
+    const long k = static_cast<long>(keyframes.size());
+    keyframes.push_back(map.CreateKeyFrame(k, static_cast<double>(k), features, cam_from_world));
+    map.AddKeyFrame(keyframes.back());
+    landmark_of_keypoint.push_back(ids);
+    return keyframes.back();
+  }
+  int KeypointOf(int keyframe, int landmark) const {
+    const auto& ids = landmark_of_keypoint[keyframe];
+    const auto it = std::find(ids.begin(), ids.end(), landmark);
+    return it == ids.end() ? -1 : static_cast<int>(it - ids.begin());
+  }
+  // A map point for `landmark` observed by `observers` (with depth as the features have it).
+  MapPoint* AddPoint(int landmark, const std::vector<int>& observers, const Vec3& offset = Vec3::Zero()) {
+    MapPoint* point = map.CreateMapPoint(landmarks[landmark] + offset, keyframes[observers[0]]);
+    for (int k : observers) {
+      const int index = KeypointOf(k, landmark);
+      point->AddObservation(keyframes[k], index, keyframes[k]->features().has_depth(index));
+      keyframes[k]->AddMapPoint(point, index);
+    }
+    point->ComputeDistinctiveDescriptor();
+    point->UpdateNormalAndDepth();
+    map.AddMapPoint(point);
+    return point;
+  }
+};
 
 }  // namespace esdslam::testing

@@ -84,7 +84,9 @@ TEST(MapSerializationTest, RoundTripKeepsKeyFramesPointsAndGraph) {
       MapPoint* pa = a[k]->map_point(i);
       MapPoint* pb = b[k]->map_point(i);
       ASSERT_EQ(pa == nullptr, pb == nullptr);
-      if (pa != nullptr) EXPECT_LT((pa->position() - pb->position()).norm(), 1e-12);
+      if (pa != nullptr) {
+        EXPECT_LT((pa->position() - pb->position()).norm(), 1e-12);
+      }
     }
   }
   EXPECT_EQ(b[1]->parent(), b[0]);

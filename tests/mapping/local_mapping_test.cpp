@@ -11,45 +11,7 @@
 namespace esdslam {
 namespace {
 
-// Keyframes along x looking at the same landmarks; each keyframe keypoint k sees landmark ids[k].
-struct Scene {
-  Map map;
-  std::vector<Vec3> landmarks;
-  cv::Mat descriptors;
-  std::vector<KeyFrame*> keyframes;
-  std::vector<std::vector<int>> landmark_of_keypoint;
-
-  Scene(int num_landmarks, int num_keyframes, double spacing_m, bool with_depth) {
-    landmarks = testing::RandomLandmarks(num_landmarks);
-    descriptors = testing::RandomDescriptors(num_landmarks);
-    for (int k = 0; k < num_keyframes; ++k) {
-      const Rigid3 cam_from_world(Quat::Identity(), Vec3(-spacing_m * k, 0, 0));
-      std::vector<int> ids;
-      auto features = testing::ProjectLandmarks(landmarks, descriptors, cam_from_world, with_depth, &ids);
-      keyframes.push_back(map.CreateKeyFrame(k, k, features, cam_from_world));
-      map.AddKeyFrame(keyframes.back());
-      landmark_of_keypoint.push_back(ids);
-    }
-  }
-  int KeypointOf(int keyframe, int landmark) const {
-    const auto& ids = landmark_of_keypoint[keyframe];
-    const auto it = std::find(ids.begin(), ids.end(), landmark);
-    return it == ids.end() ? -1 : static_cast<int>(it - ids.begin());
-  }
-  // A map point for `landmark` observed by `observers` (with depth as the features have it).
-  MapPoint* AddPoint(int landmark, const std::vector<int>& observers, const Vec3& offset = Vec3::Zero()) {
-    MapPoint* point = map.CreateMapPoint(landmarks[landmark] + offset, keyframes[observers[0]]);
-    for (int k : observers) {
-      const int index = KeypointOf(k, landmark);
-      point->AddObservation(keyframes[k], index, keyframes[k]->features().has_depth(index));
-      keyframes[k]->AddMapPoint(point, index);
-    }
-    point->ComputeDistinctiveDescriptor();
-    point->UpdateNormalAndDepth();
-    map.AddMapPoint(point);
-    return point;
-  }
-};
+using Scene = testing::LandmarkScene;
 
 TEST(LocalMappingTest, RecentPointCullingFollowsFoundRatioAndObservations) {
   Scene scene(50, 4, 0.1, true);
@@ -158,6 +120,41 @@ TEST(LocalMapperTest, SynchronousModeInsertsKeyframesInOrder) {
   EXPECT_GT(scene.keyframes[1]->Weight(scene.keyframes[0]), 40);
   EXPECT_EQ(scene.keyframes[1]->parent(), scene.keyframes[0]);
   mapper.Close();
+}
+
+// Pause (for loop closing): keyframes reserved before it are finished (and handed downstream)
+// when it returns; no reservation is granted until Resume.
+TEST(LocalMapperTest, PauseFinishesReservedKeyframesAndRefusesNewOnes) {
+  Scene scene(60, 4, 0.05, true);
+  for (int l = 0; l < 60; ++l)
+    if (scene.KeypointOf(0, l) >= 0) scene.AddPoint(l, {0});
+  for (int k = 1; k < 4; ++k)
+    for (int l = 0; l < 60; ++l) {
+      const int i0 = scene.KeypointOf(0, l), ik = scene.KeypointOf(k, l);
+      if (i0 >= 0 && ik >= 0) scene.keyframes[k]->AddMapPoint(scene.keyframes[0]->map_point(i0), ik);
+    }
+  LocalMapper mapper(&scene.map, LocalMapperOptions{}, true);
+  std::vector<long> handed_down;  // written by the mapping thread, read after Pause / Close
+  mapper.SetDownstream([&](KeyFrame* keyframe) { handed_down.push_back(keyframe->id()); });
+  mapper.Start();
+  ASSERT_TRUE(mapper.ReserveKeyFrame());
+  mapper.InsertKeyFrame(scene.keyframes[1]);
+  ASSERT_TRUE(mapper.ReserveKeyFrame());
+  mapper.InsertKeyFrame(scene.keyframes[2]);
+  mapper.Pause();
+  EXPECT_EQ(handed_down, (std::vector<long>{1, 2}));
+  EXPECT_EQ(mapper.stats().keyframes_processed, 2);
+  EXPECT_FALSE(mapper.ReserveKeyFrame());
+  mapper.Pause();  // nested
+  mapper.Resume();
+  EXPECT_FALSE(mapper.ReserveKeyFrame());
+  mapper.Resume();
+  ASSERT_TRUE(mapper.ReserveKeyFrame());
+  mapper.InsertKeyFrame(scene.keyframes[3]);
+  mapper.Close();
+  EXPECT_EQ(handed_down, (std::vector<long>{1, 2, 3}));
+  mapper.Pause();  // after Close: returns at once
+  mapper.Resume();
 }
 
 }  // namespace

@@ -233,6 +233,31 @@ TEST(SyntheticScene, TrajectoriesMoveLikeAHandheldCameraAndTheLoopCloses) {
   EXPECT_GT(RotationAngle(half.rotation()), 3.0);  // about half a turn in the middle
 }
 
+TEST(SyntheticScene, OrbitRevisitsItsStartAfterOneTurn) {
+  const SyntheticScene orbit(SynthPreset("orbit"));
+  EXPECT_EQ(orbit.num_frames(), 607);
+  double speed, rate;
+  MotionLimits(orbit, &speed, &rate);
+  EXPECT_GT(speed, 0.3);
+  EXPECT_LT(speed, 0.7);
+  EXPECT_LT(rate, 35.0);
+  // One turn every 449 frames: frame 449 is frame 0 again, frame 449 + k repeats frame k.
+  for (const int k : {0, 60, 157}) {
+    const Rigid3 same = orbit.WorldFromCam(k).inverse() * orbit.WorldFromCam(449 + k);
+    EXPECT_LT(same.translation().norm(), 1e-9) << k;
+    EXPECT_LT(RotationAngle(same.rotation()), 1e-9) << k;
+  }
+  const Rigid3 half = orbit.WorldFromCam(0).inverse() * orbit.WorldFromCam(225);
+  EXPECT_GT(RotationAngle(half.rotation()), 3.0);
+  // Looking at the room centre from 1.3 m: the centre is in front, near the optical axis.
+  const Vec3 centre_in_cam = orbit.WorldFromCam(100).inverse() * Vec3(0, 0, 1.0);
+  EXPECT_GT(centre_in_cam.z(), 1.0);
+  EXPECT_LT(std::abs(centre_in_cam.x()), 0.3);
+  SynthOptions with_movers = SynthPreset("orbit");
+  with_movers.num_movers = 1;
+  EXPECT_THROW(with_movers.Check(), Error);
+}
+
 TEST(SyntheticScene, OptionsAreChecked) {
   EXPECT_THROW(SynthPreset("crowd"), Error);
   SynthOptions options;

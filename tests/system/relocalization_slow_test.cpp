@@ -99,11 +99,12 @@ TEST(RelocalizationSlowTest, RecoversAfterTwentyBlankFramesOnFr1Rpy) {
                 reference_side);
     EXPECT_LE(blanked_side, 1.25 * reference_side) << (before_gap ? "before" : "after") << " the gap";
   }
-  // The target for the whole run is 1.25 x; measured 1.76 x (0.0371 vs 0.0211 m): the two
-  // sides are offset by the relocalized pose, which rests on the few old points in view after the
-  // rotation during the gap (the reference-keyframe retry alone recovers with 0.0347 m). No loop
-  // closing / global BA corrects this yet. The bound guards against regressions.
-  EXPECT_LE(blanked.ate_rmse, 2.0 * reference_ate);
+  // The whole run. The two sides are offset by the relocalized pose, which rests on the ~100 old
+  // points in view after the rotation during the gap; keyframes made from it at once used to
+  // start a sub-map carrying that error (1.75 x). With ORB-SLAM2's post-relocalization rules and
+  // no keyframe in the second after a relocalization: 1.30 x (0.0274 vs 0.0211 m); the issue's
+  // target, 1.25 x, is not reached (docs/RESULTS.md). The bound guards the improvement.
+  EXPECT_LE(blanked.ate_rmse, 1.35 * reference_ate);
 }
 
 }  // namespace
