@@ -100,7 +100,9 @@ StageStats Stats(std::vector<double> values) {
   return s;
 }
 
-void PrintSummary(const std::vector<FrameTiming>& timings, int total_frames, const SlamSystem& system) {
+// elapsed_ms: wall time of the frame loop (loading, segmentation hand-off, tracking).
+void PrintSummary(const std::vector<FrameTiming>& timings, int total_frames, const SlamSystem& system,
+                  double elapsed_ms) {
   std::vector<double> load, extract, track, seg_latency, seg_wait, mask, grow, geometry, dynamic, dynamic_cpu;
   int tracked = 0;
   long culled = 0;
@@ -126,6 +128,8 @@ void PrintSummary(const std::vector<FrameTiming>& timings, int total_frames, con
   print("grow+geo", Stats(dynamic));
   print("(cpu)", Stats(dynamic_cpu));
   std::printf("frames_tracked %d / %d (processed %zu)\n", tracked, total_frames, timings.size());
+  std::printf("fps %.1f (frames processed per second of wall time)\n",
+              1000.0 * static_cast<double>(timings.size()) / std::max(1.0, elapsed_ms));
   std::printf("points_culled_by_geometry %ld\n", culled);
   std::printf("keyframes %d\nmap_points %d\n", system.num_keyframes(), system.num_map_points());
   std::printf("relocalizations %d\n", system.relocalizations());
@@ -236,12 +240,14 @@ int Run(const RunArgs& args) {
   } catch (const Error& e) {
     std::fprintf(stderr, "\n");
     spdlog::error("run: stopped at frame {}: {}", timings.size(), e.what());
+    const double loop_ms = total.ElapsedMs();
     WriteResults(args, run, run_settings, timings);
-    PrintSummary(timings, static_cast<int>(n), system);
+    PrintSummary(timings, static_cast<int>(n), system, loop_ms);
     return 1;
   }
+  const double loop_ms = total.ElapsedMs();
   WriteResults(args, run, run_settings, timings);
-  PrintSummary(timings, static_cast<int>(n), system);
+  PrintSummary(timings, static_cast<int>(n), system, loop_ms);
   if (!args.save_map.empty()) system.SaveMap(args.save_map);
   return 0;
 }
