@@ -192,6 +192,7 @@ bool LoopCloser::CorrectLoop(const LoopMatch& match, LoopEvent* event) {
   event->current_id = current->id();
   event->loop_id = loop->id();
   event->timestamp = current->timestamp();
+  event->loop_timestamp = loop->timestamp();
   event->inliers = match.refined_inliers;
   event->matches = match.total_matches;
   event->correction_m = (before.inverse().translation() - corrected.inverse().translation()).norm();

@@ -53,6 +53,7 @@ struct LoopClosingOptions {
 struct LoopEvent {
   long current_id = -1, loop_id = -1;  // keyframe ids
   double timestamp = 0;                // of the current keyframe
+  double loop_timestamp = 0;           // of the loop keyframe
   int inliers = 0, matches = 0, fused = 0;
   double correction_m = 0, correction_deg = 0;  // how far the current keyframe moved
   double correct_ms = 0;
