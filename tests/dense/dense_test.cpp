@@ -13,6 +13,7 @@
 #include "dense/octomap_writer.h"
 #include "dense/outlier_filter.h"
 #include "dense/voxel_grid.h"
+#include "support/temp_path.h"
 
 #include <octomap/OcTree.h>
 
@@ -104,7 +105,7 @@ TEST(CloudIo, PlyRoundTrip) {
   PointCloud cloud;
   cloud.push_back({1.5f, -2.f, 3.25f}, {1, 2, 3});
   cloud.push_back({0.f, 0.f, 0.f}, {255, 128, 0});
-  const std::string path = (std::filesystem::temp_directory_path() / "esdslam_dense_roundtrip.ply").string();
+  const std::string path = testing::TestTempPath("dense_roundtrip", ".ply");
   WritePly(path, cloud);
   const PointCloud back = ReadPly(path);
   ASSERT_EQ(back.size(), 2u);
@@ -167,7 +168,7 @@ TEST(Octomap, WallOccupiedAndSpaceInFrontFree) {
   DenseOptions options;
   DenseMap map(PinholeCamera(TestIntrinsics()), options);
   map.Integrate(WallKeyframe(0, Rigid3()), {});
-  const std::string path = (std::filesystem::temp_directory_path() / "esdslam_test.bt").string();
+  const std::string path = testing::TestTempPath("octomap", ".bt");
   const OctomapStats stats = WriteOctomap(path, map, {});
   EXPECT_GT(stats.occupied_leaves, 0u);
   EXPECT_GT(stats.free_leaves, stats.occupied_leaves);

@@ -8,6 +8,7 @@
 
 #include "dense/octomap_writer.h"
 #include "synthetic_dense_fixture.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -87,7 +88,7 @@ class OctomapSyntheticTest : public SyntheticDenseTest {
     mapper.threaded = false;
     DenseMapper dense(scene_->camera(), Options(), {}, mapper);
     for (const DenseKeyframe& keyframe : keyframes) dense.AddKeyframe(keyframe);
-    const std::string path = (std::filesystem::temp_directory_path() / name).string();
+    const std::string path = testing::TestTempPath(name, ".bt");
     const OctomapStats stats = WriteOctomap(path, dense.map(), dense.CurrentPoses());
     EXPECT_GT(stats.occupied_leaves, 1000u);
     auto tree = std::make_unique<octomap::OcTree>(0.1);
@@ -98,7 +99,7 @@ class OctomapSyntheticTest : public SyntheticDenseTest {
 };
 
 TEST_F(OctomapSyntheticTest, FloorAndWallsOccupiedSpaceInFrontFree) {
-  const auto tree = WriteAndRead(masked_, "esdslam_synthetic_masked.bt");
+  const auto tree = WriteAndRead(masked_, "synthetic_masked");
   const RoomCheck check = CheckRoom(*scene_, *tree, masked_, Options().octomap_max_range);
   std::printf("synthetic octomap: floor %d/%d occupied, walls %d/%d occupied, mid-ray free %d/%d\n", check.floor_occupied,
               check.floor_rays, check.wall_occupied, check.wall_rays, check.free_found, check.free_probes);
@@ -110,8 +111,8 @@ TEST_F(OctomapSyntheticTest, FloorAndWallsOccupiedSpaceInFrontFree) {
 }
 
 TEST_F(OctomapSyntheticTest, MoversLeaveNoOccupiedCellsWithMasks) {
-  const auto masked = WriteAndRead(masked_, "esdslam_synthetic_masked.bt");
-  const auto unmasked = WriteAndRead(unmasked_, "esdslam_synthetic_unmasked.bt");
+  const auto masked = WriteAndRead(masked_, "synthetic_masked");
+  const auto unmasked = WriteAndRead(unmasked_, "synthetic_unmasked");
   const int ghosts_masked = GhostCells(*scene_, *masked, KeyframeTimes());
   const int ghosts_unmasked = GhostCells(*scene_, *unmasked, KeyframeTimes());
   std::printf("synthetic octomap ghost cells: %d with masks, %d without\n", ghosts_masked, ghosts_unmasked);

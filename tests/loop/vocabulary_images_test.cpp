@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -17,7 +18,7 @@ namespace fs = std::filesystem;
 class VocabularyImagesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() / "esdslam_loop_images_test";
+    root_ = testing::TestTempPath("loop_images_test");
     fs::remove_all(root_);
     fs::create_directories(root_ / "plain");
     fs::create_directories(root_ / "tum" / "rgb");

@@ -10,6 +10,7 @@
 
 #include "common/error.h"
 #include "synthetic_descriptors.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -36,7 +37,7 @@ VocabularyOptions SmallOptions() {
 }
 
 std::string TempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("esdslam_loop_" + name)).string();
+  return testing::TestTempPath("loop_" + name);
 }
 
 TEST(VocabularyTest, WordsSeparateKnownClusters) {

@@ -9,6 +9,7 @@
 #include "map/map.h"
 #include "map/map_serialization.h"
 #include "core_test_scene.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -51,7 +52,7 @@ void BuildMap(Map* map) {
 }
 
 std::string TempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("esdslam_map_test_" + name)).string();
+  return testing::TestTempPath("map_test_" + name);
 }
 
 TEST(MapSerializationTest, RoundTripKeepsKeyFramesPointsAndGraph) {

@@ -11,6 +11,7 @@
 #include "io/tum_sequence.h"
 #include "synth/sequence_writer.h"
 #include "synth/synthetic_scene.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -27,7 +28,7 @@ TEST(SequenceWriter, WritesTumLayoutThatReadsBackExactly) {
   options.intrinsics.cy = 59.5;
   options.depth_time_offset = 0.005;
   const SyntheticScene scene(options);
-  const fs::path dir = fs::temp_directory_path() / "esdslam_synth_writer_test";
+  const fs::path dir = testing::TestTempPath("synth_writer_test");
   fs::remove_all(dir);
   int progress_calls = 0;
   WriteSynthSequence(scene, dir.string(), [&](int done, int total) {

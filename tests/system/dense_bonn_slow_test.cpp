@@ -16,6 +16,7 @@
 #include "io/trajectory_io.h"
 #include "io/tum_sequence.h"
 #include "system/dynamic_run.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -72,7 +73,7 @@ TEST(DenseBonnSlowTest, OctomapFloorAndWallsOccupiedRaysFree) {
   if (!std::filesystem::exists(kDir)) GTEST_SKIP() << kDir << " not found";
   const RunSettings settings = LoadRunSettings(std::string(ESDSLAM_SOURCE_DIR) + "/config/bonn.yaml");
   const TumSequence sequence = TumSequence::Open(kDir);
-  const std::string out = (std::filesystem::temp_directory_path() / "esdslam_dense_bonn").string();
+  const std::string out = testing::TestTempPath("dense_bonn");
   std::filesystem::remove_all(out);
   {
     SlamOptions slam;

@@ -18,6 +18,7 @@
 #include "synth/synthetic_scene.h"
 #include "system/dynamic_run.h"
 #include "system/dynamic_sequence.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -95,7 +96,7 @@ DenseRun RunDenseUncached(DynamicMode mode) {
   const RunSettings settings = LoadRunSettings(SequenceDir() + "/run.yaml");
   const TumSequence sequence = TumSequence::Open(SequenceDir());
   DenseRun result;
-  result.out = (std::filesystem::temp_directory_path() / fmt::format("esdslam_dense_run_{}", ToString(mode))).string();
+  result.out = testing::TestTempPath(fmt::format("dense_run_{}", ToString(mode)));
   std::filesystem::remove_all(result.out);
   SlamOptions slam;
   slam.single_thread = true;

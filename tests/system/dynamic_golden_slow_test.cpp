@@ -13,6 +13,7 @@
 #include "io/trajectory_io.h"
 #include "io/tum_sequence.h"
 #include "system/dynamic_run.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -41,7 +42,7 @@ ModeResult RunMode(const std::string& dir, const std::string& settings_file, Dyn
     result.keypoints += step.keypoints;
     ++result.frames;
   }
-  run.Finish((std::filesystem::temp_directory_path() / "esdslam_dynamic_golden").string());
+  run.Finish(testing::TestTempPath("dynamic_golden"));
   result.ate_rmse =
       ComputeAte(ReadTumTrajectory(sequence.groundtruth_path()), run.system().Trajectory()).translation_m.rmse;
   std::printf("%s mode %s: tracked %d/%d, ATE RMSE %.4f m, %ld of %ld keypoints dropped by geometry\n", dir.c_str(),

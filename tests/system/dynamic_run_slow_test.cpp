@@ -21,6 +21,7 @@
 #include "map/map_point.h"
 #include "system/dynamic_sequence.h"
 #include "system/dynamic_run.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -153,7 +154,7 @@ RunOutcome RunMode(DynamicMode mode, const std::string& settings_path = Sequence
       out.flagged_on_mover += on_mover && features.is_dynamic[k];
     }
   }
-  run.Finish((std::filesystem::temp_directory_path() / "esdslam_dynamic_run_test_out").string());
+  run.Finish(testing::TestTempPath("dynamic_run_test_out"));
   out.points_from_movers = CountPointsFromMovers(run.system().map(), &out.live_points);
   out.ate_rmse = ComputeAte(ReadTumTrajectory(SequenceDir() + "/groundtruth.txt"), run.system().Trajectory())
                      .translation_m.rmse;

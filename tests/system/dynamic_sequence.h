@@ -1,6 +1,6 @@
 #pragma once
-// A short synthetic dynamic sequence written once per test binary (definition in
-// dynamic_sequence_fixture_slow_test.cpp: synth/sequence_writer.h and semantic/segmenter.h both
+// A short synthetic dynamic sequence written once per test process (definition in
+// dynamic_sequence.cpp: synth/sequence_writer.h and semantic/segmenter.h both
 // define kVocPersonClass, so they cannot share a translation unit).
 #include <string>
 

@@ -10,6 +10,7 @@
 #include "io/settings.h"
 #include "io/tum_sequence.h"
 #include "system/slam_system.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -42,7 +43,7 @@ PassResult RunPass(const SlamOptions& options, const std::string& save_map) {
 
 TEST(LocalizationSlowTest, SavedMapReloadsAndLocalizesEveryFrame) {
   if (!std::filesystem::exists(kDir)) GTEST_SKIP() << kDir << " not found";
-  const std::string map_path = (std::filesystem::temp_directory_path() / "esdslam_localization_test.map").string();
+  const std::string map_path = testing::TestTempPath("localization_test", ".map");
   SlamOptions slam;
   slam.single_thread = true;
   const PassResult mapping = RunPass(slam, map_path);

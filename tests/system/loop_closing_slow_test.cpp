@@ -17,6 +17,7 @@
 #include "synth/sequence_writer.h"
 #include "synth/synthetic_scene.h"
 #include "system/slam_system.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -99,7 +100,7 @@ void Print(const char* name, const LoopRun& on, const LoopRun& off) {
 // The orbit preset written once (rendering is the slow part), then run from disk twice.
 const std::string& OrbitSequence() {
   static const std::string dir = [] {
-    const std::string out = (std::filesystem::temp_directory_path() / "esdslam_loop_closing_orbit").string();
+    const std::string out = testing::TestTempPath("loop_closing_orbit");
     std::filesystem::remove_all(out);
     WriteSynthSequence(SyntheticScene(SynthPreset("orbit")), out);
     return out;

@@ -6,6 +6,7 @@
 
 #include "common/error.h"
 #include "system/run_settings.h"
+#include "support/temp_path.h"
 
 namespace esdslam {
 namespace {
@@ -13,9 +14,9 @@ namespace {
 const char* kCore = "%YAML:1.0\nCamera.fx: 500\nCamera.fy: 501\nCamera.cx: 320\nCamera.cy: 240\n";
 
 std::string WriteTemp(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("esdslam_run_settings_" + name + ".yaml");
+  const std::string path = testing::TestTempPath("run_settings_" + name, ".yaml");
   std::ofstream(path) << text;
-  return path.string();
+  return path;
 }
 
 TEST(RunSettingsTest, BindsEveryStageInOneTable) {
@@ -63,7 +64,7 @@ TEST(RunSettingsTest, SaveLoadRoundTripKeepsEveryValue) {
   run.dense.pixel_stride = 3;
   run.semantic.groups.dynamic_classes = {"person", "cat"};
   run.semantic.groups.potentially_dynamic_classes = {"chair"};
-  const std::string saved = (std::filesystem::temp_directory_path() / "esdslam_run_settings_saved.yaml").string();
+  const std::string saved = testing::TestTempPath("run_settings_saved", ".yaml");
   SaveRunSettings(run, saved);
   std::vector<std::string> warnings;
   const RunSettings back = LoadRunSettings(saved, &warnings);

@@ -5,6 +5,7 @@
 
 #include "synth/sequence_writer.h"
 #include "system/dynamic_sequence.h"
+#include "support/temp_path.h"
 
 namespace esdslam::testing {
 
@@ -17,7 +18,7 @@ const std::string& DynamicTestSequence(int frames) {
   options.supersampling = 1;
   const SyntheticScene scene(options);
   const std::string out =
-      (std::filesystem::temp_directory_path() / ("esdslam_dynamic_run_test_" + std::to_string(frames))).string();
+      TestTempPath("dynamic_run_test_" + std::to_string(frames));
   std::filesystem::remove_all(out);
   WriteSynthSequence(scene, out);
   std::ofstream(out + "/run.yaml") << SynthSettingsYaml(options) << "\nSemantic.segmenter: folder\n"
