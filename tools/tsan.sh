@@ -10,7 +10,8 @@ cd "$(dirname "$0")/.."
 targets=(test_common test_semantic test_system)
 dir=build-tsan
 ESDSLAM_BUILD_TARGETS="${targets[*]}" tools/build.sh tsan
-export ESDSLAM_TEST_SERIAL_OPENCV=1 TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1"
+export ESDSLAM_TEST_SERIAL_OPENCV=1
+export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/tools/tsan.supp"
 "$dir/tests/test_common" --gtest_filter='BoundedQueue.*'
 "$dir/tests/test_semantic" --gtest_filter='SegmentationWorker.*'
 "$dir/tests/test_system" --gtest_filter='SlamSystemTest.Threaded*:ThreadedPipelineTest.*'
