@@ -1,0 +1,92 @@
+// The `esdslam` program on bad input: a non-zero exit and an error that names the file (and the
+// line where there is one). Skipped when the program has not been built.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "support/temp_path.h"
+
+namespace esdslam {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result RunProgram(const std::string& arguments) {
+  const std::string command = (fs::path(ESDSLAM_BINARY_DIR) / "esdslam").string() + " " + arguments + " 2>&1";
+  Result result;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) return result;
+  std::array<char, 4096> buffer;
+  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) result.output += buffer.data();
+  const int status = ::pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+class CliErrorsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(fs::path(ESDSLAM_BINARY_DIR) / "esdslam")) GTEST_SKIP() << "build the esdslam target first";
+    dir_ = testing::TestTempPath("cli_errors");
+    fs::create_directories(dir_);
+  }
+  std::string Write(const std::string& name, const std::string& text) {
+    const std::string path = dir_ + "/" + name;
+    std::ofstream(path) << text;
+    return path;
+  }
+  const std::string settings_ = std::string(ESDSLAM_SOURCE_DIR) + "/config/tum_fr1.yaml";
+  std::string dir_;
+};
+
+TEST_F(CliErrorsTest, RunOnAMissingSequenceFolderFails) {
+  const Result r = RunProgram("run --settings " + settings_ + " --sequence " + dir_ + "/nowhere --out " + dir_ + "/out");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find(dir_ + "/nowhere"), std::string::npos) << r.output;
+}
+
+TEST_F(CliErrorsTest, RunOnAnEmptySequenceFails) {
+  fs::create_directories(dir_ + "/empty");
+  Write("empty/rgb.txt", "# timestamp filename\n");
+  Write("empty/depth.txt", "# timestamp filename\n");
+  const Result r = RunProgram("run --settings " + settings_ + " --sequence " + dir_ + "/empty --out " + dir_ + "/out");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("empty"), std::string::npos) << r.output;
+}
+
+TEST_F(CliErrorsTest, SettingsWithoutARequiredKeyFailNamingFileAndKey) {
+  const std::string settings = Write("no_fx.yaml", "%YAML:1.0\nCamera.fy: 500.0\nCamera.cx: 320.0\nCamera.cy: 240.0\n");
+  const Result r = RunProgram("run --settings " + settings + " --sequence " + dir_ + " --out " + dir_ + "/out");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("no_fx.yaml"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Camera.fx"), std::string::npos) << r.output;
+}
+
+TEST_F(CliErrorsTest, EvalOfAMalformedTrajectoryFailsNamingFileAndLine) {
+  const std::string truth = Write("truth.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n3.0 0 0 0 0 0 0 1\n");
+  const std::string estimate = Write("estimate.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 zero 0 0 0 1\n");
+  const Result r = RunProgram("eval " + truth + " " + estimate);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("estimate.txt:2"), std::string::npos) << r.output;
+}
+
+TEST_F(CliErrorsTest, EvalOfATrajectoryWithNanFails) {
+  const std::string truth = Write("truth.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n3.0 0 0 0 0 0 0 1\n");
+  const std::string estimate = Write("nan.txt", "1.0 0 0 0 0 0 0 1\n2.0 nan 0 0 0 0 0 1\n");
+  const Result r = RunProgram("eval " + truth + " " + estimate);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("nan.txt:2"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace esdslam
