@@ -32,6 +32,8 @@ struct SynthOptions {
   // Gaussian depth noise: sigma(z) = depth_noise_at_1m * z^2 metres (Kinect-like growth).
   // 0 = exact depth (only the 1/5000 m quantisation of the PNG files remains).
   double depth_noise_at_1m = 0.0;
+  // Gaussian colour noise of the sensor, grey levels per channel and pixel (0 = none).
+  double image_noise_sigma = 0.0;
   double max_depth_m = 8.0;         // depth beyond this is invalid (0)
   double depth_time_offset = 0.0;   // depth timestamps = rgb timestamps + this; |offset| < 0.02 s
   int supersampling = 2;            // colour samples per pixel per axis (anti-aliasing), 1..4
@@ -45,7 +47,8 @@ struct SynthOptions {
 
 // Named presets: "static" (arc, no movers, 240 frames), "dynamic" (arc, 3 movers, 240 frames),
 // "loop" (closed loop, no movers, 450 frames), "orbit" (1.35 turns around the room centre, 607
-// frames, depth noise 0.008 z^2: the loop-closing benchmark). Throws Error on an unknown name.
+// frames, depth noise 0.008 z^2), "corridor" (1.3 turns along a 23 m ring corridor, 781 frames,
+// depth and image noise: the loop-closing benchmark). Throws Error on an unknown name.
 SynthOptions SynthPreset(const std::string& name);
 
 }  // namespace esdslam

@@ -1,7 +1,7 @@
 // Loop closing end to end (single thread, so every run repeats exactly):
-//   - the synthetic "orbit" preset (1.35 turns around the room centre with depth noise): the
-//     loop is found between the start of the first turn and the revisit, closing it lowers the
-//     ATE clearly (see docs/RESULTS.md for the figures and their seed dependence);
+//   - the synthetic "corridor" preset (1.3 turns along a 23 m ring corridor with depth noise):
+//     the loop is found between the start of the first turn and the revisit, and closing it at
+//     least halves the ATE of the open-loop run (docs/RESULTS.md has the figures over seeds);
 //   - sequences without revisits (synthetic static / dynamic presets, TUM fr1_rpy and Bonn crowd
 //     dev windows): no loop is closed, and the trajectory is exactly the one of loop closing off.
 #include <gtest/gtest.h>
@@ -94,21 +94,23 @@ void Print(const char* name, const LoopRun& on, const LoopRun& off) {
                 event.correction_deg);
 }
 
-// The orbit preset written once (rendering is the slow part), then run from disk twice.
-const std::string& OrbitSequence() {
+// The corridor preset written once (rendering is the slow part), then run from disk twice.
+const std::string& CorridorSequence() {
   static const std::string dir = [] {
-    const std::string out = (std::filesystem::temp_directory_path() / "esdslam_loop_closing_orbit").string();
+    const std::string out = (std::filesystem::temp_directory_path() / "esdslam_loop_closing_corridor").string();
     std::filesystem::remove_all(out);
-    WriteSynthSequence(SyntheticScene(SynthPreset("orbit")), out);
+    WriteSynthSequence(SyntheticScene(SynthPreset("corridor")), out);
     return out;
   }();
   return dir;
 }
 
-// Loop-closure error: the orbit repeats its pose every 449 frames, so the estimated pose of
-// frame i + 449 should equal that of frame i (no alignment involved). RMS over the revisit (m).
+constexpr int kTurnFrames = 600;  // the corridor path repeats its pose every 600 frames
+constexpr int kCorridorFrames = 781;
+
+// Loop-closure error: the estimated pose of frame i + 600 should equal that of frame i (no
+// alignment involved). RMS over the revisit (m).
 double RevisitError(const std::vector<StampedPose>& trajectory) {
-  constexpr int kTurnFrames = 449;
   constexpr double kFps = 30.0;
   const auto near = [&](double t) -> const StampedPose* {
     for (const StampedPose& pose : trajectory)
@@ -117,7 +119,7 @@ double RevisitError(const std::vector<StampedPose>& trajectory) {
   };
   double sum = 0;
   int count = 0;
-  for (int i = 0; i + kTurnFrames < 607; ++i) {
+  for (int i = 0; i + kTurnFrames < kCorridorFrames; ++i) {
     const StampedPose* first = near(100.0 + i / kFps);
     const StampedPose* again = near(100.0 + (i + kTurnFrames) / kFps);
     if (first == nullptr || again == nullptr) continue;
@@ -127,32 +129,29 @@ double RevisitError(const std::vector<StampedPose>& trajectory) {
   return count > 0 ? std::sqrt(sum / count) : 1e9;
 }
 
-TEST(LoopClosingSlowTest, SyntheticOrbitLoopIsClosedAndLowersTheAte) {
-  const std::string dir = OrbitSequence();
+TEST(LoopClosingSlowTest, SyntheticCorridorLoopIsClosedAndHalvesTheAte) {
+  const std::string dir = CorridorSequence();
   const LoopRun off = RunSequence(dir, dir + "/settings.yaml", false);
   const LoopRun on = RunSequence(dir, dir + "/settings.yaml", true);
-  Print("synthetic orbit", on, off);
+  Print("synthetic corridor", on, off);
   const double revisit_on = RevisitError(on.trajectory), revisit_off = RevisitError(off.trajectory);
-  std::printf("revisit error (frame i + 449 vs frame i): on %.4f m, off %.4f m; ATE ratio on/off %.2f\n", revisit_on,
-              revisit_off, on.ate_rmse / off.ate_rmse);
+  std::printf("revisit error (frame i + %d vs frame i): on %.4f m, off %.4f m; ATE ratio on/off %.2f\n", kTurnFrames,
+              revisit_on, revisit_off, on.ate_rmse / off.ate_rmse);
   EXPECT_EQ(off.tracked, off.frames);
   EXPECT_EQ(on.tracked, on.frames);
   EXPECT_EQ(off.loops.loops_closed, 0);
-  ASSERT_EQ(on.loops.loops_closed, 1);  // the revisit is one place: one loop, then map reuse
-  EXPECT_EQ(on.loops.global_ba.completed, 1);
-  // The loop found is the real one: a keyframe from the last quarter of the first turn on (its
-  // view overlaps the start), back to the first keyframes.
+  ASSERT_GE(on.loops.loops_closed, 1);
+  EXPECT_GE(on.loops.global_ba.completed, 1);
+  // The loop found is the real one: a keyframe after most of the turn (its view overlaps the
+  // start) back to the first keyframes.
   const LoopEvent& loop = on.loops.events.front();
-  EXPECT_GT(loop.timestamp, 100.0 + 0.75 * 449 / 30.0);
+  EXPECT_GT(loop.timestamp, 100.0 + 0.9 * kTurnFrames / 30.0);
   EXPECT_LE(loop.loop_id, 5);
-  EXPECT_GT(loop.correction_m, 0.005);  // there was drift to correct
+  EXPECT_GT(loop.correction_m, 0.05);  // there was real drift to correct
   // The place is mapped consistently again: the revisit repeats the first turn's poses.
-  EXPECT_LE(revisit_on, 0.5 * revisit_off);
-  // ATE: lower with loop closing. The target is half; measured 0.67 on this preset and
-  // 0.34-0.70 over seeds and variants (docs/RESULTS.md): the open-loop drift of this small,
-  // richly textured room is small next to the per-frame tracking noise (~3 mm), so the
-  // target is not met reliably here.
-  EXPECT_LE(on.ate_rmse, 0.8 * off.ate_rmse);
+  EXPECT_LE(revisit_on, 0.25 * revisit_off);
+  // The target: loop closure at least halves the ATE.
+  EXPECT_LE(on.ate_rmse, 0.5 * off.ate_rmse);
 }
 
 TEST(LoopClosingSlowTest, NoFalseLoopOnSyntheticSequencesWithoutRevisits) {
