@@ -3,7 +3,8 @@
 //
 // The scene is a textured 6 x 5 x 3 m room with static furniture; the camera follows a known
 // smooth path ("arc": a walk along an arc looking into the room; "loop": a small circle looking
-// outwards; "orbit": a walk around the room centre looking at it; loop and orbit make
+// outwards; "orbit": a walk around the room centre looking at it; "corridor": a walk around a
+// ring corridor on a larger floor (synth/synth_layout.h); loop, orbit and corridor make
 // `loop_turns` turns over the sequence, one turn ending exactly at its start pose); optional
 // human-sized boxes walk back and forth through the view. Everything is deterministic given
 // `seed`.
@@ -22,7 +23,7 @@ struct SynthOptions {
   double first_timestamp = 100.0;   // seconds
   // Pinhole camera without distortion (k1..k3 = 0 are required). Default: 640x480, f = 525.
   CameraIntrinsics intrinsics = DefaultIntrinsics();
-  std::string trajectory = "arc";   // "arc", "loop" or "orbit" (no movers)
+  std::string trajectory = "arc";   // "arc", "loop", "orbit" or "corridor" (orbit, corridor: no movers)
   // Loop and orbit: turns around the circle over the sequence (the path is periodic per turn). More
   // than 1 revisits the start: the place is seen again for (turns - 1) of a turn.
   double loop_turns = 1.0;
