@@ -2,16 +2,19 @@
 //   - the synthetic "corridor" preset (1.3 turns along a 23 m ring corridor with depth noise):
 //     the loop is found between the start of the first turn and the revisit, and closing it at
 //     least halves the ATE of the open-loop run (docs/RESULTS.md has the figures over seeds);
-//   - sequences without revisits (synthetic static / dynamic presets, TUM fr1_rpy and Bonn crowd
-//     dev windows): no loop is closed, and the trajectory is exactly the one of loop closing off.
+//   - sequences without revisits (synthetic static / dynamic presets, TUM fr1_rpy dev window): no
+//     loop is closed, and fr1_rpy's trajectory is exactly the one of loop closing off; on the Bonn
+//     crowd window (which revisits) every loop closed joins keyframes at the same true place.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 
 #include "eval/ate.h"
 #include "io/settings.h"
 #include "io/tum_sequence.h"
+#include "map/keyframe.h"
 #include "synth/sequence_writer.h"
 #include "synth/synthetic_scene.h"
 #include "system/slam_system.h"
@@ -26,6 +29,7 @@ struct LoopRun {
   double ate_rmse = 0;
   LoopClosingStats loops;
   std::vector<StampedPose> trajectory;
+  std::map<long, double> keyframe_timestamps;  // live keyframes at the end, by id
 };
 
 SlamOptions Options(bool loop_closing) {
@@ -71,6 +75,7 @@ LoopRun RunSequence(const std::string& dir, const std::string& settings_path, bo
   system.Shutdown();
   run.loops = system.loop_stats();
   run.trajectory = system.Trajectory();
+  for (const KeyFrame* keyframe : system.map().keyframes()) run.keyframe_timestamps[keyframe->id()] = keyframe->timestamp();
   run.ate_rmse = ComputeAte(ReadTumTrajectory(sequence.groundtruth_path()), run.trajectory).translation_m.rmse;
   return run;
 }
@@ -170,6 +175,19 @@ TEST(LoopClosingSlowTest, NoFalseLoopOnSyntheticSequencesWithoutRevisits) {
   }
 }
 
+// Ground-truth pose nearest to `timestamp`.
+const StampedPose& NearestPose(const std::vector<StampedPose>& poses, double timestamp) {
+  const StampedPose* best = &poses.front();
+  for (const StampedPose& pose : poses)
+    if (std::abs(pose.timestamp - timestamp) < std::abs(best->timestamp - timestamp)) best = &pose;
+  return *best;
+}
+
+// fr1_rpy turns on the spot without coming back to an earlier view for long: no loop, and the
+// trajectory is exactly that of loop closing off. The Bonn crowd window does revisit: its camera
+// stays within 0.25 m and 25 deg of one pose while people walk by, and without masks (as here)
+// tracking drifts by decimetres, so a loop may be closed; every loop closed must then join two
+// keyframes that the ground truth puts at the same place, and must not raise the ATE.
 TEST(LoopClosingSlowTest, NoFalseLoopOnTheDevWindows) {
   const std::vector<std::pair<std::string, std::string>> windows{{"tum_fr1_rpy_dev", "tum_fr1.yaml"},
                                                                  {"bonn_crowd_dev", "bonn.yaml"}};
@@ -182,8 +200,24 @@ TEST(LoopClosingSlowTest, NoFalseLoopOnTheDevWindows) {
     const LoopRun on = RunSequence(dir, settings, true);
     const LoopRun off = RunSequence(dir, settings, false);
     Print(name.c_str(), on, off);
-    EXPECT_EQ(on.loops.loops_closed, 0) << name;
-    ExpectSameTrajectory(on.trajectory, off.trajectory);
+    if (name == "tum_fr1_rpy_dev") {
+      EXPECT_EQ(on.loops.loops_closed, 0) << name;
+      ExpectSameTrajectory(on.trajectory, off.trajectory);
+      continue;
+    }
+    const std::vector<StampedPose> truth = ReadTumTrajectory(TumSequence::Open(dir).groundtruth_path());
+    for (const LoopEvent& event : on.loops.events) {
+      ASSERT_TRUE(on.keyframe_timestamps.count(event.loop_id)) << name << ": loop keyframe culled";
+      const StampedPose& current = NearestPose(truth, event.timestamp);
+      const StampedPose& loop = NearestPose(truth, on.keyframe_timestamps.at(event.loop_id));
+      const Rigid3 loop_from_current = loop.world_from_cam.inverse() * current.world_from_cam;
+      std::printf("%s: loop %ld -> %ld, ground truth %.3f m / %.1f deg apart\n", name.c_str(), event.current_id,
+                  event.loop_id, loop_from_current.translation().norm(),
+                  RotationAngle(loop_from_current.rotation()) * 180 / M_PI);
+      EXPECT_LT(loop_from_current.translation().norm(), 0.3) << name;
+      EXPECT_LT(RotationAngle(loop_from_current.rotation()) * 180 / M_PI, 20.0) << name;
+    }
+    EXPECT_LE(on.ate_rmse, off.ate_rmse) << name;
   }
 }
 
