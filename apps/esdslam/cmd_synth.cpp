@@ -47,8 +47,8 @@ int RunSynth(const SynthArgs& args) {
 
 RunFn SetupSynth(CLI::App& app) {
   auto args = std::make_shared<SynthArgs>();
-  app.add_option("--preset", args->preset, "static | dynamic | loop | orbit (loop-closing benchmark)")
-      ->check(CLI::IsMember({"static", "dynamic", "loop", "orbit"}))
+  app.add_option("--preset", args->preset, "static | dynamic | loop | orbit | corridor (loop-closing benchmark)")
+      ->check(CLI::IsMember({"static", "dynamic", "loop", "orbit", "corridor"}))
       ->capture_default_str();
   app.add_option("--out", args->out_dir, "Output folder (TUM layout)")->required();
   app.add_option("--frames", args->frames, "Number of frames (default: preset's; static/dynamic 240, loop 450)")
@@ -61,7 +61,7 @@ RunFn SetupSynth(CLI::App& app) {
   app.add_option("--fps", args->fps, "Frame rate (default 30; the path's duration stays frames / fps)")
       ->check(CLI::Range(1.0, 120.0));
   app.add_option("--turns", args->turns,
-                 "loop / orbit: turns around the circle over the sequence (loop 1, orbit 1.35; with --frames "
+                 "loop / orbit / corridor: turns over the sequence (loop 1, orbit 1.35, corridor 1.3; with --frames "
                  "1 + 449 x turns the speed of one turn in 450 frames is kept)")
       ->check(CLI::Range(0.25, 3.0));
   return [args] { return RunSynth(*args); };

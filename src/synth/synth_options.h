@@ -3,7 +3,8 @@
 //
 // The scene is a textured 6 x 5 x 3 m room with static furniture; the camera follows a known
 // smooth path ("arc": a walk along an arc looking into the room; "loop": a small circle looking
-// outwards; "orbit": a walk around the room centre looking at it; loop and orbit make
+// outwards; "orbit": a walk around the room centre looking at it; "corridor": a walk around a
+// ring corridor on a larger floor (synth/synth_layout.h); loop, orbit and corridor make
 // `loop_turns` turns over the sequence, one turn ending exactly at its start pose); optional
 // human-sized boxes walk back and forth through the view. Everything is deterministic given
 // `seed`.
@@ -22,7 +23,7 @@ struct SynthOptions {
   double first_timestamp = 100.0;   // seconds
   // Pinhole camera without distortion (k1..k3 = 0 are required). Default: 640x480, f = 525.
   CameraIntrinsics intrinsics = DefaultIntrinsics();
-  std::string trajectory = "arc";   // "arc", "loop" or "orbit" (no movers)
+  std::string trajectory = "arc";   // "arc", "loop", "orbit" or "corridor" (orbit, corridor: no movers)
   // Loop and orbit: turns around the circle over the sequence (the path is periodic per turn). More
   // than 1 revisits the start: the place is seen again for (turns - 1) of a turn.
   double loop_turns = 1.0;
@@ -32,6 +33,8 @@ struct SynthOptions {
   // Gaussian depth noise: sigma(z) = depth_noise_at_1m * z^2 metres (Kinect-like growth).
   // 0 = exact depth (only the 1/5000 m quantisation of the PNG files remains).
   double depth_noise_at_1m = 0.0;
+  // Gaussian colour noise of the sensor, grey levels per channel and pixel (0 = none).
+  double image_noise_sigma = 0.0;
   double max_depth_m = 8.0;         // depth beyond this is invalid (0)
   double depth_time_offset = 0.0;   // depth timestamps = rgb timestamps + this; |offset| < 0.02 s
   int supersampling = 2;            // colour samples per pixel per axis (anti-aliasing), 1..4
@@ -45,7 +48,8 @@ struct SynthOptions {
 
 // Named presets: "static" (arc, no movers, 240 frames), "dynamic" (arc, 3 movers, 240 frames),
 // "loop" (closed loop, no movers, 450 frames), "orbit" (1.35 turns around the room centre, 607
-// frames, depth noise 0.008 z^2: the loop-closing benchmark). Throws Error on an unknown name.
+// frames, depth noise 0.008 z^2), "corridor" (1.3 turns along a 23 m ring corridor, 781 frames,
+// depth and image noise: the loop-closing benchmark). Throws Error on an unknown name.
 SynthOptions SynthPreset(const std::string& name);
 
 }  // namespace esdslam

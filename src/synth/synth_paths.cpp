@@ -1,5 +1,6 @@
 #include "synth/synth_paths.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -67,11 +68,67 @@ Rigid3 OrbitPose(const SynthOptions& options, double time) {
   return Rigid3(WorldFromCamRotation(heading, pitch, roll), position);
 }
 
+// Position and heading (rad, continuous) at arc length s in [0, length) along a rounded
+// rectangle centred at the origin (half extents a x b, corner radius r), counterclockwise from
+// the middle of its south side heading east.
+struct PathPoint {
+  Vec2 position;
+  double heading;
+};
+
+double RoundedRectangleLength(double a, double b, double r) { return 4 * (a - r) + 4 * (b - r) + kTwoPi * r; }
+
+PathPoint RoundedRectanglePoint(double a, double b, double r, double s) {
+  // Four sides, each a straight part (from the middle of the south side: half of it first)
+  // followed by a quarter circle; side k heads k * 90 deg.
+  const double straight[4] = {2 * (a - r), 2 * (b - r), 2 * (a - r), 2 * (b - r)};
+  const double quarter = 0.5 * M_PI * r;
+  Vec2 start(-(a - r), -b);  // the south side's straight part starts here
+  s += a - r;                // arc length from that start
+  const double length = RoundedRectangleLength(a, b, r);
+  if (s >= length) s -= length;
+  for (int k = 0; k < 4; ++k) {
+    const double heading = k * 0.5 * M_PI;
+    const Vec2 forward(std::cos(heading), std::sin(heading)), left(-std::sin(heading), std::cos(heading));
+    if (s < straight[k]) return {start + s * forward, heading};
+    s -= straight[k];
+    const Vec2 end = start + straight[k] * forward;
+    if (s < quarter || k == 3) {
+      const double angle = std::min(s, quarter) / r;
+      const Vec2 centre = end + r * left;
+      return {centre - r * std::cos(angle) * left + r * std::sin(angle) * forward, heading + angle};
+    }
+    s -= quarter;
+    start = end + r * forward + r * left;
+  }
+  return {start, 0.0};  // not reached
+}
+
+// A walk along the ring corridor's middle line (options.loop_turns turns of a rounded
+// 7.75 x 4.75 m rectangle, 23.3 m per turn), looking ahead with the head turning left and right by up to 17 deg,
+// slightly down, with a step bob: a loop through a space much larger than the depth range
+// seen at once, revisited after a whole turn. Periodic per turn.
+Rigid3 CorridorPose(const SynthOptions& options, double time) {
+  constexpr double kHalfX = 3.875, kHalfY = 2.375, kCornerRadius = 1.0;
+  const double length = RoundedRectangleLength(kHalfX, kHalfY, kCornerRadius);
+  const double turns = options.loop_turns * time / Duration(options);
+  const double u = turns - std::floor(turns);  // fraction of the current turn
+  const PathPoint point = RoundedRectanglePoint(kHalfX, kHalfY, kCornerRadius, u * length);
+  const double steps = std::round(length / 0.7);  // step bob cycles per turn
+  const double bob = 0.015 * std::sin(kTwoPi * steps * u);
+  const Vec3 position(point.position.x(), point.position.y(), 1.45 + bob);
+  const double heading = point.heading + 0.3 * std::sin(kTwoPi * 7 * u);
+  const double pitch = -0.12 + 0.05 * std::sin(kTwoPi * 5 * u + 1.0);
+  const double roll = 0.03 * std::sin(kTwoPi * 4 * u + 2.0);
+  return Rigid3(WorldFromCamRotation(heading, pitch, roll), position);
+}
+
 }  // namespace
 
 Rigid3 CameraPoseAt(const SynthOptions& options, double time) {
   if (options.trajectory == "loop") return LoopPose(options, time);
   if (options.trajectory == "orbit") return OrbitPose(options, time);
+  if (options.trajectory == "corridor") return CorridorPose(options, time);
   return ArcPose(options, time);
 }
 

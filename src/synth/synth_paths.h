@@ -1,6 +1,7 @@
 #pragma once
 // Known motions of the synthetic scenes. World frame: x east, y north, z up, origin at the
-// centre of the room floor (room: x in [-3, 3], y in [-2.5, 2.5], z in [0, 3] metres).
+// centre of the room floor (room: x in [-3, 3], y in [-2.5, 2.5], z in [0, 3] metres; the
+// corridor's ring floor: x in [-5, 5], y in [-3.5, 3.5], see synth/synth_layout.h).
 // Times are seconds since the first frame.
 
 #include <random>
@@ -18,7 +19,9 @@ namespace esdslam {
 //   looking outwards; one turn ends exactly at its start pose (all wobble terms are periodic
 //   over a turn). "orbit": options.loop_turns turns around a 1.3 m circle around the room
 //   centre, looking at the centre and slightly down (about 0.54 m/s and 24 deg/s at 450 frames
-//   per turn).
+//   per turn). "corridor": options.loop_turns walks along the middle of the ring corridor
+//   (a rounded 7.75 x 4.75 m rectangle, 23.4 m per turn, counterclockwise from the middle of its
+//   south side), looking ahead with the head turning +-17 deg, periodic per turn.
 Rigid3 CameraPoseAt(const SynthOptions& options, double time);
 
 // A mover walks back and forth along a lane parallel to the x axis: x(t) = A sin(omega t + phase).

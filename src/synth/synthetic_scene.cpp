@@ -6,26 +6,13 @@
 
 #include <opencv2/core/utility.hpp>
 
+#include "synth/synth_layout.h"
+
 namespace esdslam {
 namespace {
 
 // Fixed directional light (world frame, unit) for view-independent (Lambertian) face shading.
 const Vec3 kLight = Vec3(0.4, -0.3, 0.866).normalized();
-
-struct FurniturePiece {
-  Vec3 centre;
-  Vec3 half_size;
-};
-
-// Static furniture, clear of both camera paths and of the mover lanes (see synth_paths.cpp).
-const FurniturePiece kFurniture[] = {
-    {{2.65, -0.6, 0.45}, {0.3, 0.6, 0.45}},   // cabinet, east wall
-    {{-2.72, 0.5, 1.0}, {0.25, 0.5, 1.0}},    // tall shelf, west wall
-    {{-0.6, 2.3, 0.4}, {0.7, 0.2, 0.4}},      // sideboard, north wall
-    {{1.6, 2.3, 0.25}, {0.35, 0.2, 0.25}},    // crate, north wall
-    {{-2.4, -2.1, 0.3}, {0.4, 0.3, 0.3}},     // low box, south-west corner
-    {{0.9, 2.46, 1.65}, {0.45, 0.04, 0.3}},   // picture frame on the north wall
-};
 
 // Per-frame view of a box from the camera: ray directions in the camera frame with z = 1 map
 // to the box frame by box_from_cam, so the ray parameter t equals the depth z.
@@ -101,20 +88,19 @@ SyntheticScene::SyntheticScene(const SynthOptions& options) : options_(options) 
 }
 
 void SyntheticScene::BuildStaticScene(std::mt19937& rng) {
+  const SceneLayout layout = MakeSceneLayout(options_);
   TexturedBox room;
-  room.half_size = Vec3(3.0, 2.5, 1.5);
+  room.half_size = layout.room_half_size;
   room.inside_out = true;
   room.texel_m = options_.texel_m;
-  TextureBox(room, TextureStyle{}, rng);
+  TextureBox(room, layout.room_style, rng);
   boxes_.push_back(std::move(room));
-  static_centres_.push_back(Vec3(0.0, 0.0, 1.5));
-  for (const auto& piece : kFurniture) {
+  static_centres_.push_back(Vec3(0.0, 0.0, layout.room_half_size.z()));
+  for (const StaticBox& piece : layout.furniture) {
     TexturedBox box;
     box.half_size = piece.half_size;
     box.texel_m = options_.texel_m;
-    TextureStyle style;
-    style.base_bgr = cv::Vec3b(90, 110, 140);
-    TextureBox(box, style, rng);
+    TextureBox(box, layout.furniture_style, rng);
     boxes_.push_back(std::move(box));
     static_centres_.push_back(piece.centre);
   }
@@ -241,6 +227,17 @@ void FinishDepth(const SynthOptions& options, std::uint32_t noise_seed, cv::Mat&
   }
 }
 
+// Sensor noise on the colour image, drawn from its own stream of noise_seed.
+void AddImageNoise(double sigma, std::uint32_t noise_seed, cv::Mat& bgr) {
+  if (!(sigma > 0)) return;
+  std::mt19937 rng(noise_seed ^ 0x9e3779b9u);
+  std::normal_distribution<double> normal(0.0, sigma);
+  for (int v = 0; v < bgr.rows; ++v) {
+    auto* row = bgr.ptr<uchar>(v);
+    for (int k = 0; k < bgr.cols * 3; ++k) row[k] = cv::saturate_cast<uchar>(row[k] + normal(rng));
+  }
+}
+
 }  // namespace
 
 SynthFrame SyntheticScene::Render(const Rigid3& world_from_cam, double time, std::uint32_t noise_seed) const {
@@ -270,6 +267,7 @@ SynthFrame SyntheticScene::Render(const Rigid3& world_from_cam, double time, std
   cv::parallel_for_(cv::Range(0, height),
                     [&](const cv::Range& rows) { RenderRows(views, camera_, options_.supersampling, rows, frame); });
   FinishDepth(options_, noise_seed, frame.depth_m);
+  AddImageNoise(options_.image_noise_sigma, noise_seed, frame.bgr);
   return frame;
 }
 

@@ -1,5 +1,6 @@
 // Known-answer tests of the synthetic scene generator: multi-view depth consistency, exact
 // masks, determinism, texture quality for FAST, and the camera motion limits.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -9,6 +10,7 @@
 
 #include "common/error.h"
 #include "synth/sequence_writer.h"
+#include "synth/synth_layout.h"
 #include "synth/synthetic_scene.h"
 
 namespace esdslam {
@@ -273,6 +275,49 @@ TEST(SyntheticScene, OptionsAreChecked) {
   options.intrinsics.k1 = 0.1;
   EXPECT_THROW(SyntheticScene scene(options), Error);
   EXPECT_NO_THROW(SynthPreset("loop").Check());
+}
+
+// Distance (m) from a point to an axis-aligned box (0 inside).
+double DistanceToBox(const Vec3& point, const StaticBox& box) {
+  const Vec3 outside = ((point - box.centre).cwiseAbs() - box.half_size).cwiseMax(0.0);
+  return outside.norm();
+}
+
+TEST(SyntheticScene, CorridorWalksAroundTheRingAndRevisitsItsStartAfterOneTurn) {
+  const SynthOptions options = SynthPreset("corridor");
+  EXPECT_EQ(options.num_frames, 781);
+  const auto pose = [&](int frame) { return CameraPoseAt(options, frame / options.fps); };
+  const SceneLayout layout = MakeSceneLayout(options);
+  double max_speed = 0, min_speed = 1e9, max_rate = 0, min_clearance = 1e9, path_length = 0;
+  for (int i = 1; i < options.num_frames; ++i) {
+    const Rigid3 delta = pose(i - 1).inverse() * pose(i);
+    const double speed = delta.translation().norm() * options.fps;
+    max_speed = std::max(max_speed, speed), min_speed = std::min(min_speed, speed);
+    max_rate = std::max(max_rate, RotationAngle(delta.rotation()) * 180 / M_PI * options.fps);
+    if (i <= 600) path_length += delta.translation().norm();
+    const Vec3 position = pose(i).translation();
+    for (const StaticBox& box : layout.furniture) min_clearance = std::min(min_clearance, DistanceToBox(position, box));
+    const Vec3 to_wall = layout.room_half_size - Vec3(std::abs(position.x()), std::abs(position.y()), 0);
+    min_clearance = std::min({min_clearance, to_wall.x(), to_wall.y()});
+  }
+  std::printf("corridor: %.1f m per turn, speed %.2f-%.2f m/s, <= %.0f deg/s, clearance >= %.2f m\n", path_length,
+              min_speed, max_speed, max_rate, min_clearance);
+  EXPECT_NEAR(path_length, 23.3, 0.3);  // a walk through the floor, not a turn on the spot
+  EXPECT_GT(min_speed, 0.9);
+  EXPECT_LT(max_speed, 1.4);
+  EXPECT_LT(max_rate, 120.0);
+  EXPECT_GT(min_clearance, 0.5);  // never inside or against furniture, block or walls
+  // One turn every 600 frames: frame 600 + k repeats frame k.
+  for (const int k : {0, 75, 180}) {
+    const Rigid3 same = pose(k).inverse() * pose(600 + k);
+    EXPECT_LT(same.translation().norm(), 1e-9) << k;
+    EXPECT_LT(RotationAngle(same.rotation()), 1e-9) << k;
+  }
+  const Rigid3 half = pose(0).inverse() * pose(300);
+  EXPECT_GT(half.translation().norm(), 4.0);  // the far side of the ring
+  SynthOptions with_movers = options;
+  with_movers.num_movers = 1;
+  EXPECT_THROW(with_movers.Check(), Error);
 }
 
 }  // namespace

@@ -1,19 +1,22 @@
 // Loop closing end to end (single thread, so every run repeats exactly):
-//   - the synthetic "orbit" preset (1.35 turns around the room centre with depth noise): the
-//     loop is found between the start of the first turn and the revisit, closing it lowers the
-//     ATE clearly (see docs/RESULTS.md for the figures and their seed dependence);
-//   - synthetic sequences without revisits (static / dynamic presets): no loop is closed;
-//   - the TUM fr1_rpy and Bonn crowd dev windows: every loop closed is a true revisit.
+//   - the synthetic "corridor" preset (1.3 turns along a 23 m ring corridor with depth noise):
+//     the loop is found between the start of the first turn and the revisit, and closing it at
+//     least halves the ATE of the open-loop run (docs/RESULTS.md has the figures over seeds);
+//   - sequences without revisits (synthetic static / dynamic presets, TUM fr1_rpy dev window): no
+//     loop is closed, and fr1_rpy's trajectory is exactly the one of loop closing off; on the Bonn
+//     crowd window (which revisits) every loop closed joins keyframes at the same true place.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 
 #include "eval/ate.h"
 #include "io/settings.h"
 #include "io/trajectory_io.h"
 #include "io/tum_sequence.h"
+#include "map/keyframe.h"
 #include "synth/sequence_writer.h"
 #include "synth/synthetic_scene.h"
 #include "system/slam_system.h"
@@ -29,6 +32,7 @@ struct LoopRun {
   double ate_rmse = 0;
   LoopClosingStats loops;
   std::vector<StampedPose> trajectory;
+  std::map<long, double> keyframe_timestamps;  // live keyframes at the end, by id
 };
 
 SlamOptions Options(bool loop_closing) {
@@ -74,6 +78,7 @@ LoopRun RunSequence(const std::string& dir, const std::string& settings_path, bo
   system.Shutdown();
   run.loops = system.loop_stats();
   run.trajectory = system.Trajectory();
+  for (const KeyFrame* keyframe : system.map().keyframes()) run.keyframe_timestamps[keyframe->id()] = keyframe->timestamp();
   run.ate_rmse = ComputeAte(ReadTumTrajectory(sequence.groundtruth_path()), run.trajectory).translation_m.rmse;
   return run;
 }
@@ -97,21 +102,23 @@ void Print(const char* name, const LoopRun& on, const LoopRun& off) {
                 event.correction_deg);
 }
 
-// The orbit preset written once (rendering is the slow part), then run from disk twice.
-const std::string& OrbitSequence() {
+// The corridor preset written once (rendering is the slow part), then run from disk twice.
+const std::string& CorridorSequence() {
   static const std::string dir = [] {
-    const std::string out = testing::TestTempPath("loop_closing_orbit");
+    const std::string out = testing::TestTempPath("loop_closing_corridor");
     std::filesystem::remove_all(out);
-    WriteSynthSequence(SyntheticScene(SynthPreset("orbit")), out);
+    WriteSynthSequence(SyntheticScene(SynthPreset("corridor")), out);
     return out;
   }();
   return dir;
 }
 
-// Loop-closure error: the orbit repeats its pose every 449 frames, so the estimated pose of
-// frame i + 449 should equal that of frame i (no alignment involved). RMS over the revisit (m).
+constexpr int kTurnFrames = 600;  // the corridor path repeats its pose every 600 frames
+constexpr int kCorridorFrames = 781;
+
+// Loop-closure error: the estimated pose of frame i + 600 should equal that of frame i (no
+// alignment involved). RMS over the revisit (m).
 double RevisitError(const std::vector<StampedPose>& trajectory) {
-  constexpr int kTurnFrames = 449;
   constexpr double kFps = 30.0;
   const auto near = [&](double t) -> const StampedPose* {
     for (const StampedPose& pose : trajectory)
@@ -120,7 +127,7 @@ double RevisitError(const std::vector<StampedPose>& trajectory) {
   };
   double sum = 0;
   int count = 0;
-  for (int i = 0; i + kTurnFrames < 607; ++i) {
+  for (int i = 0; i + kTurnFrames < kCorridorFrames; ++i) {
     const StampedPose* first = near(100.0 + i / kFps);
     const StampedPose* again = near(100.0 + (i + kTurnFrames) / kFps);
     if (first == nullptr || again == nullptr) continue;
@@ -130,32 +137,29 @@ double RevisitError(const std::vector<StampedPose>& trajectory) {
   return count > 0 ? std::sqrt(sum / count) : 1e9;
 }
 
-TEST(LoopClosingSlowTest, SyntheticOrbitLoopIsClosedAndLowersTheAte) {
-  const std::string dir = OrbitSequence();
+TEST(LoopClosingSlowTest, SyntheticCorridorLoopIsClosedAndHalvesTheAte) {
+  const std::string dir = CorridorSequence();
   const LoopRun off = RunSequence(dir, dir + "/settings.yaml", false);
   const LoopRun on = RunSequence(dir, dir + "/settings.yaml", true);
-  Print("synthetic orbit", on, off);
+  Print("synthetic corridor", on, off);
   const double revisit_on = RevisitError(on.trajectory), revisit_off = RevisitError(off.trajectory);
-  std::printf("revisit error (frame i + 449 vs frame i): on %.4f m, off %.4f m; ATE ratio on/off %.2f\n", revisit_on,
-              revisit_off, on.ate_rmse / off.ate_rmse);
+  std::printf("revisit error (frame i + %d vs frame i): on %.4f m, off %.4f m; ATE ratio on/off %.2f\n", kTurnFrames,
+              revisit_on, revisit_off, on.ate_rmse / off.ate_rmse);
   EXPECT_EQ(off.tracked, off.frames);
   EXPECT_EQ(on.tracked, on.frames);
   EXPECT_EQ(off.loops.loops_closed, 0);
-  ASSERT_EQ(on.loops.loops_closed, 1);  // the revisit is one place: one loop, then map reuse
-  EXPECT_EQ(on.loops.global_ba.completed, 1);
-  // The loop found is the real one: a keyframe from the last quarter of the first turn on (its
-  // view overlaps the start), back to the first keyframes.
+  ASSERT_GE(on.loops.loops_closed, 1);
+  EXPECT_GE(on.loops.global_ba.completed, 1);
+  // The loop found is the real one: a keyframe after most of the turn (its view overlaps the
+  // start) back to the first keyframes.
   const LoopEvent& loop = on.loops.events.front();
-  EXPECT_GT(loop.timestamp, 100.0 + 0.75 * 449 / 30.0);
+  EXPECT_GT(loop.timestamp, 100.0 + 0.85 * kTurnFrames / 30.0);
   EXPECT_LE(loop.loop_id, 5);
-  EXPECT_GT(loop.correction_m, 0.005);  // there was drift to correct
+  EXPECT_GT(loop.correction_m, 0.05);  // there was real drift to correct
   // The place is mapped consistently again: the revisit repeats the first turn's poses.
-  EXPECT_LE(revisit_on, 0.5 * revisit_off);
-  // ATE: lower with loop closing. The target is half; measured 0.67 on this preset and
-  // 0.34-0.70 over seeds and variants (docs/RESULTS.md): the open-loop drift of this small,
-  // richly textured room is small next to the per-frame tracking noise (~3 mm), so the
-  // target is not met reliably here.
-  EXPECT_LE(on.ate_rmse, 0.8 * off.ate_rmse);
+  EXPECT_LE(revisit_on, 0.25 * revisit_off);
+  // The target: loop closure at least halves the ATE.
+  EXPECT_LE(on.ate_rmse, 0.5 * off.ate_rmse);
 }
 
 TEST(LoopClosingSlowTest, NoFalseLoopOnSyntheticSequencesWithoutRevisits) {
@@ -174,18 +178,20 @@ TEST(LoopClosingSlowTest, NoFalseLoopOnSyntheticSequencesWithoutRevisits) {
   }
 }
 
-// Ground-truth pose nearest in time (the dev windows' ground truth is at >= 30 Hz).
-const StampedPose& NearestInTime(const std::vector<StampedPose>& poses, double t) {
-  return *std::min_element(poses.begin(), poses.end(), [t](const StampedPose& a, const StampedPose& b) {
-    return std::abs(a.timestamp - t) < std::abs(b.timestamp - t);
-  });
+// Ground-truth pose nearest to `timestamp`.
+const StampedPose& NearestPose(const std::vector<StampedPose>& poses, double timestamp) {
+  const StampedPose* best = &poses.front();
+  for (const StampedPose& pose : poses)
+    if (std::abs(pose.timestamp - timestamp) < std::abs(best->timestamp - timestamp)) best = &pose;
+  return *best;
 }
 
-// The dev windows: every loop closed joins two keyframes whose true poses are at the same place
-// (Bonn's handheld camera comes back to within 0.1 m of where it was 5 s earlier, a true revisit;
-// fr1_rpy rotates on the spot). Without a loop the trajectory is exactly the one of loop closing
-// off: detection alone changes nothing.
-TEST(LoopClosingSlowTest, LoopsOnTheDevWindowsAreTrueRevisits) {
+// fr1_rpy turns on the spot without coming back to an earlier view for long: no loop, and the
+// trajectory is exactly that of loop closing off. The Bonn crowd window does revisit: its camera
+// stays within 0.25 m and 25 deg of one pose while people walk by, and without masks (as here)
+// tracking drifts by decimetres, so a loop may be closed; every loop closed must then join two
+// keyframes that the ground truth puts at the same place, and must not raise the ATE.
+TEST(LoopClosingSlowTest, NoFalseLoopOnTheDevWindows) {
   const std::vector<std::pair<std::string, std::string>> windows{{"tum_fr1_rpy_dev", "tum_fr1.yaml"},
                                                                  {"bonn_crowd_dev", "bonn.yaml"}};
   for (const auto& [name, settings] : windows) {
@@ -197,18 +203,24 @@ TEST(LoopClosingSlowTest, LoopsOnTheDevWindowsAreTrueRevisits) {
     const LoopRun on = RunSequence(dir, settings, true);
     const LoopRun off = RunSequence(dir, settings, false);
     Print(name.c_str(), on, off);
-    const std::vector<StampedPose> truth = ReadTumTrajectory(TumSequence::Open(dir).groundtruth_path());
-    for (const LoopEvent& loop : on.loops.events) {
-      const Rigid3 current = NearestInTime(truth, loop.timestamp).world_from_cam;
-      const Rigid3 old = NearestInTime(truth, loop.loop_timestamp).world_from_cam;
-      const double distance_m = (current.translation() - old.translation()).norm();
-      const double angle_deg = (current.rotation().inverse() * old.rotation()).angularDistance(Quat::Identity()) * 180 / M_PI;
-      std::printf("  true relative pose of the loop: %.3f m, %.1f deg\n", distance_m, angle_deg);
-      EXPECT_LT(distance_m, 0.3) << name;
-      EXPECT_LT(angle_deg, 20.0) << name;
+    if (name == "tum_fr1_rpy_dev") {
+      EXPECT_EQ(on.loops.loops_closed, 0) << name;
+      ExpectSameTrajectory(on.trajectory, off.trajectory);
+      continue;
     }
-    if (on.loops.loops_closed == 0) ExpectSameTrajectory(on.trajectory, off.trajectory);
-    else EXPECT_LE(on.ate_rmse, off.ate_rmse) << name;
+    const std::vector<StampedPose> truth = ReadTumTrajectory(TumSequence::Open(dir).groundtruth_path());
+    for (const LoopEvent& event : on.loops.events) {
+      ASSERT_TRUE(on.keyframe_timestamps.count(event.loop_id)) << name << ": loop keyframe culled";
+      const StampedPose& current = NearestPose(truth, event.timestamp);
+      const StampedPose& loop = NearestPose(truth, on.keyframe_timestamps.at(event.loop_id));
+      const Rigid3 loop_from_current = loop.world_from_cam.inverse() * current.world_from_cam;
+      std::printf("%s: loop %ld -> %ld, ground truth %.3f m / %.1f deg apart\n", name.c_str(), event.current_id,
+                  event.loop_id, loop_from_current.translation().norm(),
+                  RotationAngle(loop_from_current.rotation()) * 180 / M_PI);
+      EXPECT_LT(loop_from_current.translation().norm(), 0.3) << name;
+      EXPECT_LT(RotationAngle(loop_from_current.rotation()) * 180 / M_PI, 20.0) << name;
+    }
+    EXPECT_LE(on.ate_rmse, off.ate_rmse) << name;
   }
 }
 
