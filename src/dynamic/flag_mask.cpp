@@ -25,31 +25,42 @@ int MaskRadiusPx(const PinholeCamera& camera, double z, const GeometryCheckOptio
   return std::clamp(static_cast<int>(std::lround(radius)), options.cluster_radius_px, options.max_mask_radius_px);
 }
 
-// Flags whose discs (radius cluster_radius_px / 2) touch form a cluster; found on the flags'
-// bounding box only (flags are usually few and local). Counts the consistent points per cluster.
+// Flags whose discs (radius cluster_radius_px / 2) touch form a cluster; found on a grid of
+// kCell x kCell pixel cells (flags and discs rasterised to cells: cell accuracy suffices for a
+// grouping radius of tens of pixels, and it is 16x fewer pixels to draw and label) over the
+// flags' bounding box only (flags are usually few and local). Counts the consistent points per
+// cluster.
+constexpr int kCell = 4;
 std::vector<Cluster> FindClusters(const cv::Size& size, const std::vector<FlaggedPoint>& flags,
                                   const std::vector<cv::Point>& static_pixels, const GeometryCheckOptions& options) {
   const int disc = options.cluster_radius_px / 2;
-  cv::Rect roi(flags[0].pixel, cv::Size(1, 1));
-  for (const auto& flag : flags) roi |= cv::Rect(flag.pixel, cv::Size(1, 1));
-  roi = cv::Rect(roi.x - disc, roi.y - disc, roi.width + 2 * disc, roi.height + 2 * disc) & cv::Rect(cv::Point(), size);
+  const int disc_cells = std::max(1, (disc + kCell / 2) / kCell);
+  const auto cell = [](const cv::Point& p) { return cv::Point(p.x / kCell, p.y / kCell); };
+  const cv::Size cells((size.width + kCell - 1) / kCell, (size.height + kCell - 1) / kCell);
+  cv::Rect roi(cell(flags[0].pixel), cv::Size(1, 1));
+  for (const auto& flag : flags) roi |= cv::Rect(cell(flag.pixel), cv::Size(1, 1));
+  roi = cv::Rect(roi.x - disc_cells, roi.y - disc_cells, roi.width + 2 * disc_cells, roi.height + 2 * disc_cells) &
+        cv::Rect(cv::Point(), cells);
   cv::Mat discs = cv::Mat::zeros(roi.size(), CV_8U);
-  for (const auto& flag : flags) cv::circle(discs, flag.pixel - roi.tl(), disc, 255, cv::FILLED);
+  for (const auto& flag : flags) cv::circle(discs, cell(flag.pixel) - roi.tl(), disc_cells, 255, cv::FILLED);
   cv::Mat labels, stats, centroids;
   const int num_labels = cv::connectedComponentsWithStats(discs, labels, stats, centroids, 8, CV_32S);
   std::vector<Cluster> clusters(num_labels);
   for (const auto& flag : flags) {
-    Cluster& cluster = clusters[labels.at<int>(flag.pixel - roi.tl())];
+    Cluster& cluster = clusters[labels.at<int>(cell(flag.pixel) - roi.tl())];
     cluster.seeds.push_back(flag.pixel);
     cluster.depths.push_back(static_cast<float>(flag.measured_depth_m));
   }
   for (const cv::Point& pixel : static_pixels) {
-    if (roi.contains(pixel)) ++clusters[labels.at<int>(pixel - roi.tl())].consistent;
+    const cv::Point c = cell(pixel);
+    if (roi.contains(c)) ++clusters[labels.at<int>(c - roi.tl())].consistent;
   }
+  const cv::Rect image(cv::Point(), size);
   for (int label = 1; label < num_labels; ++label)
-    clusters[label].box = cv::Rect(stats.at<int>(label, cv::CC_STAT_LEFT) + roi.x,
-                                   stats.at<int>(label, cv::CC_STAT_TOP) + roi.y, stats.at<int>(label, cv::CC_STAT_WIDTH),
-                                   stats.at<int>(label, cv::CC_STAT_HEIGHT));
+    clusters[label].box = cv::Rect((stats.at<int>(label, cv::CC_STAT_LEFT) + roi.x) * kCell,
+                                   (stats.at<int>(label, cv::CC_STAT_TOP) + roi.y) * kCell,
+                                   stats.at<int>(label, cv::CC_STAT_WIDTH) * kCell,
+                                   stats.at<int>(label, cv::CC_STAT_HEIGHT) * kCell) & image;
   clusters.erase(clusters.begin());  // label 0: outside every disc
   return clusters;
 }
@@ -63,7 +74,6 @@ bool Supported(const Cluster& cluster, const GeometryCheckOptions& options) {
 // Where growth may go: within each cluster's radius of the supported flags, from a distance
 // transform at 1/kCell resolution (a loose bound: cell accuracy suffices, and the cost does not
 // grow with the number of flags).
-constexpr int kCell = 4;
 cv::Mat AllowedArea(const cv::Size& size, const std::vector<Cluster>& clusters) {
   const cv::Size cells((size.width + kCell - 1) / kCell, (size.height + kCell - 1) / kCell);
   cv::Mat not_flag(cells, CV_8U, cv::Scalar(255));
