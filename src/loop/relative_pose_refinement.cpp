@@ -1,4 +1,5 @@
 #include "loop/relative_pose_refinement.h"
+#include "optim/small_problem_options.h"
 
 #include <cmath>
 
@@ -68,13 +69,8 @@ void Solve(const std::vector<PointMatch3D>& matches, const std::vector<bool>& us
   }
   if (residuals == 0) return;
   problem.SetManifold(quaternion, new ceres::EigenQuaternionManifold());
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = iterations;
-  options.num_threads = 1;
-  options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
+  ceres::Solve(SmallProblemOptions(iterations), &problem, &summary);
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "optim/pose_optimizer.h"
+#include "optim/small_problem_options.h"
 
 #include <cmath>
 #include <memory>
@@ -74,13 +75,8 @@ void SolveRound(const RoundContext& context, bool robust, int iterations, double
     if (robust) loss = observations[i].right_u >= 0 ? context.huber_stereo : context.huber_mono;
     problem.AddResidualBlock((*context.costs)[i].get(), loss, block);
   }
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.max_num_iterations = iterations;
-  solver_options.num_threads = 1;
-  solver_options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
+  ceres::Solve(SmallProblemOptions(iterations), &problem, &summary);
   if (summary.IsSolutionUsable()) std::copy(block, block + kPoseBlockSize, pose_block);
 }
 
