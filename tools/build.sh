@@ -16,6 +16,12 @@ case "$kind" in
   debug)   dir=build-debug; args=(-DCMAKE_BUILD_TYPE=Debug) ;;
   *) echo "usage: tools/build.sh [release|asan|tsan|debug]" >&2; exit 2 ;;
 esac
+# ccache, when installed, shares compiled objects between checkouts (CCACHE_BASEDIR makes the
+# paths relative); CI machines without it build as usual.
+if command -v ccache >/dev/null 2>&1; then
+  args+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$(cd .. && pwd)}"
+fi
 cmake -S . -B "$dir" "${args[@]}" >/dev/null
 # ESDSLAM_BUILD_TARGETS: space-separated targets to build instead of all.
 read -r -a targets <<< "${ESDSLAM_BUILD_TARGETS:-all}"

@@ -102,9 +102,6 @@ std::string ResolveModelPath(const std::string& path, const std::string& setting
     roots.emplace_back(fs::path(exe_dir) / "..");
     roots.emplace_back(fs::path(exe_dir) / ".." / "..");
   }
-#ifdef ESDSLAM_SOURCE_DIR
-  roots.emplace_back(ESDSLAM_SOURCE_DIR);
-#endif
   for (const auto& root : roots) {
     const fs::path candidate = root / path;
     if (fs::exists(candidate)) return fs::weakly_canonical(candidate).string();

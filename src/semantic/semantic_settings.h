@@ -39,7 +39,7 @@ struct SemanticSettings {
 SemanticSettings LoadSemanticSettings(const std::string& path);
 
 // Finds a model file: absolute or existing as given; else relative to `settings_dir`, the
-// executable's folder and its two parents, and the source tree (ESDSLAM_SOURCE_DIR). Returns
+// executable's folder and its two parents. Returns
 // `path` unchanged when nothing exists (the segmenter then reports it as missing).
 std::string ResolveModelPath(const std::string& path, const std::string& settings_dir = "");
 

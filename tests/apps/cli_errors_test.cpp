@@ -10,6 +10,7 @@
 #include <string>
 
 #include "support/temp_path.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
@@ -22,7 +23,7 @@ struct Result {
 };
 
 Result RunProgram(const std::string& arguments) {
-  const std::string command = (fs::path(ESDSLAM_BINARY_DIR) / "esdslam").string() + " " + arguments + " 2>&1";
+  const std::string command = (fs::path(::esdslam::testing::BinaryDir()) / "esdslam").string() + " " + arguments + " 2>&1";
   Result result;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return result;
@@ -36,7 +37,7 @@ Result RunProgram(const std::string& arguments) {
 class CliErrorsTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!fs::exists(fs::path(ESDSLAM_BINARY_DIR) / "esdslam")) GTEST_SKIP() << "build the esdslam target first";
+    if (!fs::exists(fs::path(::esdslam::testing::BinaryDir()) / "esdslam")) GTEST_SKIP() << "build the esdslam target first";
     dir_ = testing::TestTempPath("cli_errors");
     fs::create_directories(dir_);
   }
@@ -45,7 +46,7 @@ class CliErrorsTest : public ::testing::Test {
     std::ofstream(path) << text;
     return path;
   }
-  const std::string settings_ = std::string(ESDSLAM_SOURCE_DIR) + "/config/tum_fr1.yaml";
+  const std::string settings_ = ::esdslam::testing::SourceDir() + "/config/tum_fr1.yaml";
   std::string dir_;
 };
 

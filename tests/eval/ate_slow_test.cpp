@@ -14,6 +14,7 @@
 #include "eval/ate.h"
 #include "io/test_files.h"
 #include "io/trajectory_io.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
@@ -103,7 +104,7 @@ double Median(std::vector<double> v) {
 }
 
 void CompareOnSequence(const std::string& sequence, bool with_scale) {
-  const std::string gt_path = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/" + sequence + "/groundtruth.txt";
+  const std::string gt_path = ::esdslam::testing::TestDataDir() + "/data/" + sequence + "/groundtruth.txt";
   if (!std::filesystem::exists(gt_path)) GTEST_SKIP() << "no data at " << gt_path;
   testing::TempDir dir;
   const std::vector<StampedPose> groundtruth = ReadTumTrajectory(gt_path);

@@ -14,12 +14,13 @@
 #include "camera/pinhole_camera.h"
 #include "feature/descriptor.h"
 #include "feature/orb_extractor.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 
 std::vector<std::string> FramePaths(const std::string& sequence) {
-  const std::filesystem::path dir = std::filesystem::path(ESDSLAM_TEST_DATA_DIR) / "data" / sequence / "rgb";
+  const std::filesystem::path dir = std::filesystem::path(::esdslam::testing::TestDataDir()) / "data" / sequence / "rgb";
   std::vector<std::string> paths;
   if (!std::filesystem::is_directory(dir)) return paths;
   for (const auto& entry : std::filesystem::directory_iterator(dir))
@@ -39,7 +40,7 @@ int Cell(const cv::Point2f& p, cv::Size size) {
 // at the minimum threshold away from the 19 px border where no keypoint may lie) gets keypoints.
 void CheckSequence(const std::string& sequence, int expected_frames) {
   const std::vector<std::string> paths = FramePaths(sequence);
-  if (paths.empty()) GTEST_SKIP() << "no data for " << sequence << " under " << ESDSLAM_TEST_DATA_DIR;
+  if (paths.empty()) GTEST_SKIP() << "no data for " << sequence << " under " << ::esdslam::testing::TestDataDir();
   ASSERT_EQ(static_cast<int>(paths.size()), expected_frames);
   const OrbOptions options;
   const OrbExtractor extractor(options);
@@ -75,7 +76,7 @@ void CheckSequence(const std::string& sequence, int expected_frames) {
 // below ORB-SLAM2's strict threshold, consistent with the epipolar geometry (RANSAC, 2 px).
 TEST(OrbExtractorSlow, DescriptorsMatchConsecutiveFrames) {
   const std::vector<std::string> paths = FramePaths("tum_fr1_rpy_dev");
-  if (paths.empty()) GTEST_SKIP() << "no data under " << ESDSLAM_TEST_DATA_DIR;
+  if (paths.empty()) GTEST_SKIP() << "no data under " << ::esdslam::testing::TestDataDir();
   const OrbExtractor extractor(OrbOptions{});
   CameraIntrinsics fr1;  // TUM freiburg1 (../shared/README.md)
   fr1.fx = 517.306408;

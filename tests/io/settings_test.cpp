@@ -5,6 +5,7 @@
 #include "common/error.h"
 #include "io/settings_table.h"
 #include "io/test_files.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
@@ -48,7 +49,7 @@ TEST(Settings, ShippedConfigsLoad) {
   for (const Expected& expected : {Expected{"tum_fr1", 517.306408, 0.262383}, Expected{"tum_fr2", 520.908620, 0.231222},
                                    Expected{"tum_fr3", 535.4, 0.0}, Expected{"bonn", 542.822841, 0.039903}}) {
     std::vector<std::string> warnings;
-    const std::string path = std::string(ESDSLAM_SOURCE_DIR) + "/config/" + expected.name + ".yaml";
+    const std::string path = ::esdslam::testing::SourceDir() + "/config/" + expected.name + ".yaml";
     const Settings settings = LoadSettings(path, &warnings);
     EXPECT_TRUE(warnings.empty()) << path;
     EXPECT_DOUBLE_EQ(settings.camera.fx, expected.fx) << path;

@@ -12,11 +12,12 @@
 #include "io/settings.h"
 #include "io/trajectory_io.h"
 #include "io/tum_sequence.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 
-std::string SequenceDir(const std::string& name) { return std::string(ESDSLAM_TEST_DATA_DIR) + "/data/" + name; }
+std::string SequenceDir(const std::string& name) { return ::esdslam::testing::TestDataDir() + "/data/" + name; }
 
 std::vector<double> ListedTimes(const std::string& path) {
   std::ifstream in(path);
@@ -64,7 +65,7 @@ void CheckSequence(const std::string& name, const std::string& config) {
   EXPECT_TRUE(sequence.has_groundtruth());
   EXPECT_GT(ReadTumTrajectory(sequence.groundtruth_path()).size(), 200u);
 
-  const Settings settings = LoadSettings(std::string(ESDSLAM_SOURCE_DIR) + "/config/" + config + ".yaml");
+  const Settings settings = LoadSettings(::esdslam::testing::SourceDir() + "/config/" + config + ".yaml");
   for (const FrameEntry* frame : {&sequence.frames().front(), &sequence.frames().back()}) {
     const RgbdImages images = LoadRgbd(*frame, settings.depth_map_factor);
     EXPECT_EQ(images.bgr.size(), cv::Size(settings.camera.width, settings.camera.height));

@@ -10,11 +10,12 @@
 #include "feature/orb_extractor.h"
 #include "map/map.h"
 #include "synth/synthetic_scene.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 
-const std::string kVocabularyPath = std::string(ESDSLAM_SOURCE_DIR) + "/models/vocabulary/orb_vocabulary.bin";
+const std::string kVocabularyPath = ::esdslam::testing::SourceDir() + "/models/vocabulary/orb_vocabulary.bin";
 
 class LoopVerificationTest : public ::testing::Test {
  protected:

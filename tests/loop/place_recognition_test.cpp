@@ -12,11 +12,12 @@
 #include "map/keyframe.h"
 #include "map/map.h"
 #include "synth/synthetic_scene.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 
-const std::string kVocabularyPath = std::string(ESDSLAM_SOURCE_DIR) + "/models/vocabulary/orb_vocabulary.bin";
+const std::string kVocabularyPath = ::esdslam::testing::SourceDir() + "/models/vocabulary/orb_vocabulary.bin";
 
 std::shared_ptr<const FeatureSet> Features(const cv::Mat& bgr, const OrbExtractor& extractor,
                                            const std::shared_ptr<const RgbdRig>& rig) {

@@ -11,16 +11,17 @@
 #include "loop/keyframe_database.h"
 #include "loop/vocabulary.h"
 #include "loop/vocabulary_images.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 
-const std::string kVocabularyPath = std::string(ESDSLAM_SOURCE_DIR) + "/models/vocabulary/orb_vocabulary.bin";
+const std::string kVocabularyPath = ::esdslam::testing::SourceDir() + "/models/vocabulary/orb_vocabulary.bin";
 
 class ShippedVocabularyTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    const std::string data = std::string(ESDSLAM_TEST_DATA_DIR) + "/data";
+    const std::string data = ::esdslam::testing::TestDataDir() + "/data";
     if (!std::filesystem::is_directory(data + "/tum_fr1_rpy_dev") || !std::filesystem::is_directory(data + "/bonn_crowd_dev"))
       GTEST_SKIP() << "no real sequences in " << data;
     const auto start = std::chrono::steady_clock::now();

@@ -12,13 +12,14 @@
 #include <unistd.h>
 
 #include "semantic/onnx_segmenter.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kReferenceDir = fs::path(ESDSLAM_TEST_DATA_DIR) / "models" / "espnetv2" / "reference";
-const fs::path kModelDir = fs::path(ESDSLAM_SOURCE_DIR) / "models";
+const fs::path kReferenceDir = fs::path(::esdslam::testing::TestDataDir()) / "models" / "espnetv2" / "reference";
+const fs::path kModelDir = fs::path(::esdslam::testing::SourceDir()) / "models";
 
 OnnxSegmenter MakeSegmenter(const fs::path& model, int width, int height) {
   OnnxSegmenterOptions o;
@@ -81,10 +82,10 @@ TEST(EspNetV2Reference, UpsamplingPresentClassesMatchesUpsamplingAll) {
 TEST(EspNetV2Reference, CommittedModelsEqualAFreshExport) {
   if (std::system("/usr/bin/python3 -c 'import torch, onnx' >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "python3-torch / python3-onnx not installed";
-  const fs::path weights = fs::path(ESDSLAM_TEST_DATA_DIR) / "models" / "espnetv2";
+  const fs::path weights = fs::path(::esdslam::testing::TestDataDir()) / "models" / "espnetv2";
   if (!fs::is_directory(weights)) GTEST_SKIP() << "no weights at " << weights;
   const fs::path out = fs::temp_directory_path() / ("esdslam_export_" + std::to_string(::getpid()));
-  const std::string command = "PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 " ESDSLAM_SOURCE_DIR
+  const std::string command = "PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 " + ::esdslam::testing::SourceDir() +
                               "/tools/espnetv2/export.py --no-reference-check --weights-dir " +
                               weights.string() + " --out " + out.string() + " >/dev/null 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
@@ -111,7 +112,7 @@ namespace {
 
 // `esdslam segment` end to end (skipped when the program has not been built).
 TEST(EsdslamSegmentCommand, WritesFullResolutionLabelsAndFailsOnABadModel) {
-  const fs::path program = fs::path(ESDSLAM_BINARY_DIR) / "esdslam";
+  const fs::path program = fs::path(::esdslam::testing::BinaryDir()) / "esdslam";
   if (!fs::exists(program)) GTEST_SKIP() << "build the esdslam target first";
   if (!fs::is_directory(kReferenceDir)) GTEST_SKIP() << "no reference data at " << kReferenceDir;
   const fs::path out = fs::temp_directory_path() / ("esdslam_segment_cmd_" + std::to_string(::getpid()));

@@ -7,12 +7,13 @@
 #include <unistd.h>
 
 #include "common/error.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 namespace fs = std::filesystem;
 
-std::string ShippedModel() { return std::string(ESDSLAM_SOURCE_DIR) + "/models/espnetv2_s2.0_voc_256x192.onnx"; }
+std::string ShippedModel() { return ::esdslam::testing::SourceDir() + "/models/espnetv2_s2.0_voc_256x192.onnx"; }
 
 TEST(OnnxSegmenter, MissingModelIsAClearError) {
   OnnxSegmenterOptions o;

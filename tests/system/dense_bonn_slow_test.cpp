@@ -17,11 +17,12 @@
 #include "io/tum_sequence.h"
 #include "system/dynamic_run.h"
 #include "support/temp_path.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 
-const std::string kDir = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/bonn_crowd_dev";
+const std::string kDir = ::esdslam::testing::TestDataDir() + "/data/bonn_crowd_dev";
 
 struct Counts {
   int floor = 0, floor_occupied = 0, wall = 0, wall_occupied = 0, probes = 0, free = 0;
@@ -71,7 +72,7 @@ void CheckKeyframe(const octomap::OcTree& tree, const PinholeCamera& camera, con
 
 TEST(DenseBonnSlowTest, OctomapFloorAndWallsOccupiedRaysFree) {
   if (!std::filesystem::exists(kDir)) GTEST_SKIP() << kDir << " not found";
-  const RunSettings settings = LoadRunSettings(std::string(ESDSLAM_SOURCE_DIR) + "/config/bonn.yaml");
+  const RunSettings settings = LoadRunSettings(::esdslam::testing::SourceDir() + "/config/bonn.yaml");
   const TumSequence sequence = TumSequence::Open(kDir);
   const std::string out = testing::TestTempPath("dense_bonn");
   std::filesystem::remove_all(out);

@@ -14,11 +14,12 @@
 #include "io/tum_sequence.h"
 #include "system/dynamic_run.h"
 #include "support/temp_path.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 
-const std::string kData = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/";
+const std::string kData = ::esdslam::testing::TestDataDir() + "/data/";
 
 struct ModeResult {
   int tracked = 0, frames = 0;
@@ -27,7 +28,7 @@ struct ModeResult {
 };
 
 ModeResult RunMode(const std::string& dir, const std::string& settings_file, DynamicMode mode) {
-  const RunSettings settings = LoadRunSettings(std::string(ESDSLAM_SOURCE_DIR) + "/config/" + settings_file);
+  const RunSettings settings = LoadRunSettings(::esdslam::testing::SourceDir() + "/config/" + settings_file);
   const TumSequence sequence = TumSequence::Open(dir);
   SlamOptions slam;
   slam.single_thread = true;

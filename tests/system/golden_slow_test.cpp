@@ -10,11 +10,12 @@
 #include "io/tum_sequence.h"
 #include "synth/synthetic_scene.h"
 #include "system/slam_system.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 
-const std::string kData = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/";
+const std::string kData = ::esdslam::testing::TestDataDir() + "/data/";
 
 struct RunResult {
   int tracked = 0;
@@ -23,7 +24,7 @@ struct RunResult {
 };
 
 RunResult RunSequence(const std::string& dir, const std::string& settings_file, bool single_thread) {
-  const Settings settings = LoadSettings(std::string(ESDSLAM_SOURCE_DIR) + "/config/" + settings_file);
+  const Settings settings = LoadSettings(::esdslam::testing::SourceDir() + "/config/" + settings_file);
   const TumSequence sequence = TumSequence::Open(dir);
   SlamOptions options;
   options.single_thread = single_thread;

@@ -11,11 +11,12 @@
 #include "io/tum_sequence.h"
 #include "system/slam_system.h"
 #include "support/temp_path.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 
-const std::string kDir = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/tum_fr1_rpy_dev";
+const std::string kDir = ::esdslam::testing::TestDataDir() + "/data/tum_fr1_rpy_dev";
 
 struct PassResult {
   int tracked = 0, frames = 0, keyframes = 0, relocalizations = 0;
@@ -23,7 +24,7 @@ struct PassResult {
 };
 
 PassResult RunPass(const SlamOptions& options, const std::string& save_map) {
-  const Settings settings = LoadSettings(std::string(ESDSLAM_SOURCE_DIR) + "/config/tum_fr1.yaml");
+  const Settings settings = LoadSettings(::esdslam::testing::SourceDir() + "/config/tum_fr1.yaml");
   const TumSequence sequence = TumSequence::Open(kDir);
   SlamSystem system(settings, options);
   PassResult result;

@@ -21,11 +21,12 @@
 #include "synth/synthetic_scene.h"
 #include "system/slam_system.h"
 #include "support/temp_path.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 
-const std::string kData = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/";
+const std::string kData = ::esdslam::testing::TestDataDir() + "/data/";
 
 struct LoopRun {
   int tracked = 0, frames = 0;
@@ -66,7 +67,7 @@ LoopRun RunSynthetic(const SyntheticScene& scene, bool loop_closing) {
 LoopRun RunSequence(const std::string& dir, const std::string& settings_path, bool loop_closing) {
   const bool absolute = !settings_path.empty() && settings_path.front() == '/';
   const Settings settings =
-      LoadSettings(absolute ? settings_path : std::string(ESDSLAM_SOURCE_DIR) + "/config/" + settings_path);
+      LoadSettings(absolute ? settings_path : ::esdslam::testing::SourceDir() + "/config/" + settings_path);
   const TumSequence sequence = TumSequence::Open(dir);
   SlamSystem system(settings, Options(loop_closing));
   LoopRun run;

@@ -9,11 +9,12 @@
 #include "io/settings.h"
 #include "io/tum_sequence.h"
 #include "system/slam_system.h"
+#include "support/test_paths.h"
 
 namespace esdslam {
 namespace {
 
-const std::string kDir = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/tum_fr1_rpy_dev";
+const std::string kDir = ::esdslam::testing::TestDataDir() + "/data/tum_fr1_rpy_dev";
 
 struct BlankedRun {
   double ate_rmse = 0;
@@ -38,7 +39,7 @@ std::vector<StampedPose> SameFrames(const std::vector<StampedPose>& trajectory, 
 }
 
 BlankedRun RunBlanked(int blank_begin, int blank_count, bool relocalization) {
-  const Settings settings = LoadSettings(std::string(ESDSLAM_SOURCE_DIR) + "/config/tum_fr1.yaml");
+  const Settings settings = LoadSettings(::esdslam::testing::SourceDir() + "/config/tum_fr1.yaml");
   const TumSequence sequence = TumSequence::Open(kDir);
   SlamOptions options;
   options.single_thread = true;
