@@ -191,10 +191,11 @@ void CopyStep(const FrameStep& step, FrameTiming& t) {
   t.seg_latency_ms = step.mask.latency_ms, t.seg_wait_ms = step.mask.wait_ms, t.mask_ms = step.mask.refine_ms;
   t.dynamic_fraction = step.mask.dynamic_fraction;
   t.keypoints = step.keypoints, t.dynamic_keypoints = step.dynamic_keypoints;
-  t.grow_ms = step.mask.grow_ms, t.geometry_ms = step.outcome.geometry_ms;
-  t.geometry_keypoints = step.geometry_keypoints, t.geometry_culled = step.outcome.geometry_culled;
-  t.geometry_covered = step.outcome.geometry_covered, t.geometry_window_px = step.outcome.geometry_window_px;
-  t.grow_cpu_ms = step.mask.grow_cpu_ms, t.geometry_cpu_ms = step.outcome.geometry_cpu_ms;
+  const GeometryFilterStats& geometry = step.outcome.geometry;
+  t.grow_ms = step.mask.grow_ms, t.geometry_ms = geometry.check_ms;
+  t.geometry_keypoints = step.geometry_keypoints, t.geometry_culled = geometry.points_culled;
+  t.geometry_covered = geometry.covered, t.geometry_window_px = geometry.skipped_fast_motion ? -1 : geometry.window_radius_px;
+  t.grow_cpu_ms = step.mask.grow_cpu_ms, t.geometry_cpu_ms = geometry.check_cpu_ms;
 }
 
 int Run(const RunArgs& args) {

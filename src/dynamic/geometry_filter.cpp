@@ -28,34 +28,41 @@ GeometryFilter::GeometryFilter(const GeometryFilterOptions& options)
   options_.Check();
 }
 
-int GeometryFilter::Apply(Frame* frame) {
+GeometryFilterStats GeometryFilter::Apply(Frame* frame) {
   Stopwatch watch;
   ThreadCpuStopwatch cpu;
-  last_ = {};
-  last_.image_motion_px = ImageMotionSinceLastFrame(*frame);
+  GeometryFilterStats stats;
+  stats.image_motion_px = ImageMotionSinceLastFrame(*frame);
   last_frame_id_ = frame->id();
   last_cam_from_world_ = frame->cam_from_world;
   const std::vector<KeyFrame*> keyframes = SelectKeyFrames(*frame);
-  last_.reference_keyframes = static_cast<int>(keyframes.size());
-  if (keyframes.empty()) return 0;
+  stats.reference_keyframes = static_cast<int>(keyframes.size());
+  if (keyframes.empty()) return stats;
   std::vector<std::vector<int>> keypoints;
   const std::vector<ReferenceKeyframe> references = BuildReferences(keyframes, &keypoints);
   const GeometryCheckResult result =
       CheckMultiViewGeometry(frame->rig().camera, frame->cam_from_world, frame->depth_m(), references, options_.check,
-                             frame->geometry_exempt, last_.image_motion_px);
-  last_.ran = true;
-  last_.window_radius_px = result.window_radius_px;
-  last_.skipped_fast_motion = result.skipped_fast_motion;
-  last_.tested = result.num_tested;
-  last_.covered = static_cast<int>(result.dynamic_points.size());
-  last_.vanished = static_cast<int>(result.vanished_points.size());
-  last_.mask = result.dynamic_mask;
-  const int removed = FlagKeypoints(frame, result.dynamic_mask);
+                             frame->geometry_exempt, stats.image_motion_px);
+  stats.ran = true;
+  stats.window_radius_px = result.window_radius_px;
+  stats.skipped_fast_motion = result.skipped_fast_motion;
+  stats.tested = result.num_tested;
+  stats.covered = static_cast<int>(result.dynamic_points.size());
+  stats.vanished = static_cast<int>(result.vanished_points.size());
+  stats.mask = result.dynamic_mask;
+  const Flagged flagged = FlagKeypoints(frame, result.dynamic_mask);
+  stats.flagged_keypoints = flagged.keypoints;
+  stats.associations_removed = flagged.associations_removed;
   VoteReferencePoints(keyframes, keypoints, result);
-  CullMovedPoints(frame);
-  last_.check_ms = watch.ElapsedMs();
-  last_.check_cpu_ms = cpu.ElapsedMs();
-  return removed;
+  stats.points_culled = CullMovedPoints(frame);
+  stats.check_ms = watch.ElapsedMs();
+  stats.check_cpu_ms = cpu.ElapsedMs();
+  return stats;
+}
+
+int GeometryFilterHook::Apply(Frame* frame) {
+  stats_ = filter_->Apply(frame);
+  return stats_.associations_removed;
 }
 
 void GeometryFilter::AddKeyFrame(const KeyFrame& keyframe, const Frame& frame) {
@@ -133,10 +140,10 @@ std::vector<ReferenceKeyframe> GeometryFilter::BuildReferences(const std::vector
 }
 
 // Keypoints on the grown mask become dynamic; a map point matched to one of them moved with it.
-int GeometryFilter::FlagKeypoints(Frame* frame, const cv::Mat& mask) {
-  if (cv::countNonZero(mask) == 0) return 0;
+GeometryFilter::Flagged GeometryFilter::FlagKeypoints(Frame* frame, const cv::Mat& mask) {
+  Flagged flagged;
+  if (cv::countNonZero(mask) == 0) return flagged;
   const FeatureSet& features = frame->features();
-  int removed = 0;
   for (int i = 0; i < frame->size(); ++i) {
     if (features.is_dynamic[i]) continue;
     const cv::Point2f& pt = features.keypoints[i].pt;
@@ -144,14 +151,13 @@ int GeometryFilter::FlagKeypoints(Frame* frame, const cv::Mat& mask) {
     if (!mask.at<std::uint8_t>(v, u)) continue;
     MapPoint* point = frame->map_points[i];
     if (point != nullptr) {
-      ++removed;
+      ++flagged.associations_removed;
       if (point->num_observations() > 0 && !point->is_bad()) Evidence(point);
     }
     frame->MarkDynamic(i, kDynamicByGeometry);
-    ++last_.flagged_keypoints;
+    ++flagged.keypoints;
   }
-  last_.associations_removed = removed;
-  return removed;
+  return flagged;
 }
 
 void GeometryFilter::VoteReferencePoints(const std::vector<KeyFrame*>& keyframes,
@@ -175,23 +181,25 @@ void GeometryFilter::Evidence(MapPoint* point) {
   evidence_points_[point->id()] = point;
 }
 
-void GeometryFilter::CullMovedPoints(Frame* frame) {
+int GeometryFilter::CullMovedPoints(Frame* frame) {
   const std::vector<long> moved = votes_.EndFrame();
+  int culled = 0;
   if (options_.cull_after_frames > 0) {
     for (const long id : moved) {
       MapPoint* point = evidence_points_.at(id);
       if (point->is_bad()) continue;
       point->SetBad();
-      ++last_.points_culled;
+      ++culled;
     }
   }
   evidence_points_.clear();
-  total_culled_ += last_.points_culled;
-  if (last_.points_culled == 0) return;
+  total_culled_ += culled;
+  if (culled == 0) return 0;
   for (int i = 0; i < frame->size(); ++i) {
     MapPoint* point = frame->map_points[i];
     if (point != nullptr && point->is_bad()) frame->map_points[i] = nullptr;
   }
+  return culled;
 }
 
 }  // namespace esdslam

@@ -62,31 +62,33 @@ struct GeometryFilterStats {
   cv::Mat mask;               // CV_8U, 255 = moving by geometry; empty when the check did not run
 };
 
-class GeometryFilter : public MovingKeypointFilter {
+class GeometryFilter {
  public:
   explicit GeometryFilter(const GeometryFilterOptions& options);
 
-  void BeginFrame() { last_ = {}; }
   // frame: tracked with a first pose and map point associations; caller holds Map::update_mutex.
-  // Returns the number of associations removed (the caller then re-estimates the pose).
-  int Apply(Frame* frame) override;
+  // Flags the moving keypoints and culls moved points; returns what it did on this frame
+  // (associations_removed > 0: the caller re-estimates the pose).
+  GeometryFilterStats Apply(Frame* frame);
   // A keyframe just made from `frame`: keeps its depth image for the veto.
-  void AddKeyFrame(const KeyFrame& keyframe, const Frame& frame) override;
+  void AddKeyFrame(const KeyFrame& keyframe, const Frame& frame);
 
-  const GeometryFilterStats& last() const { return last_; }
   long total_points_culled() const { return total_culled_; }
   const GeometryFilterOptions& options() const { return options_; }
 
  private:
+  struct Flagged {
+    int keypoints = 0, associations_removed = 0;
+  };
   std::vector<KeyFrame*> SelectKeyFrames(const Frame& frame) const;
   double ImageMotionSinceLastFrame(const Frame& frame) const;
   // Reference points of each keyframe and the keypoint each came from.
   std::vector<ReferenceKeyframe> BuildReferences(const std::vector<KeyFrame*>& keyframes,
                                                  std::vector<std::vector<int>>* keypoints);
-  int FlagKeypoints(Frame* frame, const cv::Mat& mask);
+  Flagged FlagKeypoints(Frame* frame, const cv::Mat& mask);
   void VoteReferencePoints(const std::vector<KeyFrame*>& keyframes, const std::vector<std::vector<int>>& keypoints,
                            const GeometryCheckResult& result);
-  void CullMovedPoints(Frame* frame);
+  int CullMovedPoints(Frame* frame);  // returns the points culled
   void Evidence(MapPoint* point);
 
   GeometryFilterOptions options_;
@@ -94,10 +96,24 @@ class GeometryFilter : public MovingKeypointFilter {
   std::unordered_map<long, const KeyFrame*> depth_owners_;  // keyframes with a stored depth
   MovingPointVotes votes_;
   std::unordered_map<long, MapPoint*> evidence_points_;  // this frame's evidence, by point id
-  GeometryFilterStats last_;
   long total_culled_ = 0;
   long last_frame_id_ = -1;  // last frame checked, and its pose
   Rigid3 last_cam_from_world_;
+};
+
+// The filter plugged into one Tracker::Track call (tracking's MovingKeypointFilter hook, which
+// returns only the count tracking needs): keeps the statistics GeometryFilter::Apply returned
+// for that call. Make one per frame; stats() is all zero when tracking did not reach the check.
+class GeometryFilterHook final : public MovingKeypointFilter {
+ public:
+  explicit GeometryFilterHook(GeometryFilter* filter) : filter_(filter) {}
+  int Apply(Frame* frame) override;
+  void AddKeyFrame(const KeyFrame& keyframe, const Frame& frame) override { filter_->AddKeyFrame(keyframe, frame); }
+  const GeometryFilterStats& stats() const { return stats_; }
+
+ private:
+  GeometryFilter* filter_;  // not owned
+  GeometryFilterStats stats_;
 };
 
 }  // namespace esdslam

@@ -104,7 +104,7 @@ FrameStep DynamicRun::Step(std::size_t i) {
   if (i + 1 < frames_.size()) next_.emplace(i + 1, Load(i + 1, &step.load_ms));
   if (semantic_) step.mask = semantic_->MaskFor(static_cast<std::int64_t>(i), images.depth_m);
   step.outcome = system_->TrackRgbd(images.bgr, images.depth_m, step.timestamp, step.mask.mask, GeometryExempt(step.mask));
-  if (const GeometryFilter* geometry = system_->geometry_filter()) step.geometry_mask = geometry->last().mask;
+  step.geometry_mask = step.outcome.geometry.mask;
   const FeatureSet& features = system_->last_frame().features();
   step.keypoints = features.size();
   for (std::uint8_t flag : features.is_dynamic) {

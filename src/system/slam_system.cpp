@@ -43,10 +43,7 @@ SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
   }
   tracker_ = std::make_unique<Tracker>(map_.get(), sink, options_.tracker);
   tracker_->set_relocalizer(relocalizer_.get());
-  if (options_.geometry_check) {
-    geometry_filter_ = std::make_unique<GeometryFilter>(options_.geometry);
-    tracker_->set_moving_keypoint_filter(geometry_filter_.get());
-  }
+  if (options_.geometry_check) geometry_filter_ = std::make_unique<GeometryFilter>(options_.geometry);
   if (!options_.load_map.empty()) {
     LoadMap(options_.load_map, rig_, map_.get());
     if (places_) places_->AddMissing(map_->keyframes());
@@ -77,17 +74,9 @@ TrackOutcome SlamSystem::TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, d
   frame.geometry_exempt = geometry_exempt;
   outcome.extract_ms = watch.ElapsedMs();
   watch.Restart();
-  if (geometry_filter_) geometry_filter_->BeginFrame();
-  const TrackingResult result = tracker_->Track(&frame);
-  if (geometry_filter_) {
-    const GeometryFilterStats& geometry = geometry_filter_->last();
-    outcome.geometry_ms = geometry.check_ms;
-    outcome.geometry_cpu_ms = geometry.check_cpu_ms;
-    outcome.geometry_keypoints = geometry.flagged_keypoints;
-    outcome.geometry_culled = geometry.points_culled;
-    outcome.geometry_covered = geometry.covered;
-    outcome.geometry_window_px = geometry.skipped_fast_motion ? -1 : geometry.window_radius_px;
-  }
+  GeometryFilterHook geometry(geometry_filter_.get());  // this call's check statistics
+  const TrackingResult result = tracker_->Track(&frame, geometry_filter_ ? &geometry : nullptr);
+  outcome.geometry = geometry.stats();
   if (options_.single_thread) {
     mapper_->ProcessQueued();
     if (loop_closer_) loop_closer_->ProcessQueued();

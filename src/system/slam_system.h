@@ -53,12 +53,9 @@ struct TrackOutcome {
   int inliers = 0;
   double extract_ms = 0;  // Frame construction (ORB extraction, undistortion, depth lookup)
   double track_ms = 0;    // tracking step, plus local mapping in single-thread mode
-  double geometry_ms = 0; // part of track_ms: the geometry check (0 when off or not run)
-  double geometry_cpu_ms = 0;  // the same, CPU time
-  int geometry_keypoints = 0;  // keypoints the geometry check marked dynamic
-  int geometry_culled = 0;     // map points it culled as moved
-  int geometry_covered = 0;    // reference points it found covered (before clustering)
-  int geometry_window_px = 0;  // its measured-depth window radius (grows with image motion)
+  // The geometry check inside the tracking step (part of track_ms), as GeometryFilter::Apply
+  // returned it; all zero (ran = false) when it is off or tracking did not reach it.
+  GeometryFilterStats geometry;
 };
 
 class SlamSystem {
@@ -95,8 +92,6 @@ class SlamSystem {
   LoopClosingStats loop_stats() const;
   // Null when relocalization and loop closing are disabled.
   PlaceRecognition* place_recognition() { return places_.get(); }
-  // Null unless SlamOptions::geometry_check; last() describes the last TrackRgbd call.
-  const GeometryFilter* geometry_filter() const { return geometry_filter_.get(); }
   Map& map() { return *map_; }
   // The frame of the last TrackRgbd call (keypoints, is_dynamic flags, associations).
   const Frame& last_frame() const { return tracker_->last_frame(); }

@@ -4,6 +4,9 @@
 // itself knows nothing about dynamic objects beyond FeatureSet::is_dynamic; this interface keeps
 // the dependency pointing from dynamic/ to tracking/, not back.
 //
+// The filter is handed to each Tracker::Track call (no state on the tracker), so an
+// implementation can keep what it found on that frame and give it to the caller as a value
+// (dynamic/geometry_filter.h: GeometryFilterHook).
 // Threading: both calls come from the tracking thread while it holds Map::update_mutex.
 
 namespace esdslam {

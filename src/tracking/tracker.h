@@ -67,16 +67,16 @@ class Tracker {
   // `sink` may be null (no local mapping: keyframes are only added to the map).
   Tracker(Map* map, KeyFrameSink* sink, const TrackerOptions& options);
 
-  // Tracks the frame (sets its pose, associations, reference keyframe).
-  TrackingResult Track(Frame* frame);
+  // Tracks the frame (sets its pose, associations, reference keyframe). `moving_filter` (null =
+  // none; not owned, used during this call only) is the check run between the first pose and
+  // local-map tracking: keypoints it finds moving are dropped and the pose is re-estimated
+  // without them; it also sees the keyframe made from this frame, if any.
+  TrackingResult Track(Frame* frame, MovingKeypointFilter* moving_filter = nullptr);
 
   TrackingState state() const { return state_; }
   // Global BoW relocalization tried while LOST when the reference-keyframe retry fails (null = off;
   // not owned). Tracking resumes in the same map.
   void set_relocalizer(Relocalizer* relocalizer) { relocalizer_ = relocalizer; }
-  // Multi-view geometry check run between the first pose and local-map tracking (null = off; not
-  // owned): keypoints it finds moving are dropped and the pose is re-estimated without them.
-  void set_moving_keypoint_filter(MovingKeypointFilter* filter) { moving_filter_ = filter; }
   // For a map loaded from a file: start LOST, so the first frames are relocalized in it.
   void StartInExistingMap() { state_ = TrackingState::kLost; }
   // Frames relocalized by the relocalizer so far.
@@ -92,7 +92,7 @@ class Tracker {
   bool TrackReferenceKeyFrame(Frame* frame);
   bool Relocalize(Frame* frame);  // tracker_relocalization.cpp
   void UpdateLastFrame();
-  void FilterMovingKeypoints(Frame* frame);
+  void FilterMovingKeypoints(Frame* frame, MovingKeypointFilter* filter);
   void ReplaceMovedPointsInLastFrame();
   int OptimizePose(Frame* frame);
   int DiscardOutliers(Frame* frame);
@@ -130,7 +130,6 @@ class Tracker {
   std::vector<MapPoint*> local_points_;
   std::vector<std::unique_ptr<MapPoint>> temporary_points_;  // depth points of the last frame
   Relocalizer* relocalizer_ = nullptr;
-  MovingKeypointFilter* moving_filter_ = nullptr;
   int relocalizations_ = 0;
 };
 

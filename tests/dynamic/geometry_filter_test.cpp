@@ -27,7 +27,7 @@ constexpr int kWarmUp = 6;  // frames before the movers have moved clear of wher
 enum class Masks { kAllButFirstFrame, kFirstFrameOnly, kFirstFrameOnlyEverythingExempt };
 
 struct FilterRun {
-  int tracked = 0;
+  int tracked = 0, checked = 0;  // frames tracked, frames the check ran on
   int on_movers = 0, flagged = 0, flagged_on_movers = 0;  // keypoints after the warm-up
   int initial_mover_points = 0, initial_mover_points_culled = 0;
   int initial_static_points = 0, initial_static_points_culled = 0;
@@ -63,7 +63,6 @@ FilterRun RunWithFilter(Masks masks, int frames = kFrames) {
   GeometryFilterOptions filter_options;
   filter_options.check.motion_window_fraction = 0;  // synthetic depth is registered exactly
   GeometryFilter filter(filter_options);
-  tracker.set_moving_keypoint_filter(&filter);
   FilterRun run;
   std::vector<StampedPose> estimate;
   std::vector<MapPoint*> initial_mover_points, initial_static_points;
@@ -74,8 +73,16 @@ FilterRun RunWithFilter(Masks masks, int frames = kFrames) {
     Frame frame(i, image.timestamp, image.bgr, image.depth_m, mask, extractor, rig);
     frame.geometry_exempt = mask;
     if (masks == Masks::kFirstFrameOnlyEverythingExempt) frame.geometry_exempt = cv::Mat(image.bgr.size(), CV_8U, cv::Scalar(255));
-    filter.BeginFrame();
-    const TrackingResult result = tracker.Track(&frame);
+    GeometryFilterHook hook(&filter);
+    const TrackingResult result = tracker.Track(&frame, &hook);
+    // The check's statistics are this call's value: they describe this frame's flags.
+    int geometry_flags = 0;
+    for (const std::uint8_t flag : frame.features().is_dynamic) geometry_flags += flag == kDynamicByGeometry;
+    EXPECT_EQ(hook.stats().flagged_keypoints, geometry_flags) << "frame " << i;
+    if (!hook.stats().ran) {
+      EXPECT_EQ(geometry_flags, 0) << "frame " << i;
+    }
+    run.checked += hook.stats().ran;
     run.tracked += result.has_pose;
     if (result.has_pose) estimate.push_back({image.timestamp, result.cam_from_world.inverse()});
     for (int k = 0; i == 0 && k < frame.size(); ++k) {
@@ -119,6 +126,7 @@ TEST(GeometryFilterTest, CullsMapPointsOfMoversOnceTheyMove) {
 TEST(GeometryFilterTest, FindsMovingKeypointsWithoutSemantics) {
   const FilterRun run = RunWithFilter(Masks::kFirstFrameOnly);
   EXPECT_EQ(run.tracked, kFrames);
+  EXPECT_EQ(run.checked, kFrames - 1);  // every frame after the first (which makes the map)
   ASSERT_GT(run.on_movers, 1000);
   EXPECT_GE(static_cast<double>(run.flagged_on_movers) / std::max(1, run.flagged), 0.9);  // precision
   EXPECT_GE(static_cast<double>(run.flagged_on_movers) / run.on_movers, 0.5);            // recall

@@ -142,7 +142,7 @@ RunOutcome RunMode(DynamicMode mode, const std::string& settings_path = Sequence
     const FrameStep step = run.Step(i);
     out.tracked += step.outcome.has_pose;
     out.geometry_flagged += step.geometry_keypoints;
-    out.geometry_culled += step.outcome.geometry_culled;
+    out.geometry_culled += step.outcome.geometry.points_culled;
     const cv::Mat gt = GroundTruthMoverMask(step.timestamp);
     ScoreMasks(step, gt, settings.semantic.folder.folder, &out, &scored);
     const FeatureSet& features = run.system().last_frame().features();
