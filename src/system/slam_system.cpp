@@ -1,6 +1,5 @@
 #include "system/slam_system.h"
 
-#include <cmath>
 
 #include <spdlog/spdlog.h>
 
@@ -22,7 +21,6 @@ void SlamOptions::Check() const {
 SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
     : settings_(settings), options_(options) {
   settings_.Check();
-  options_.tracker.max_frames_between_keyframes = std::max(1, static_cast<int>(std::lround(settings_.fps)));
   options_.Check();
   extractor_ = std::make_unique<OrbExtractor>(settings_.orb);
   rig_ = MakeRgbdRig(settings_.camera, settings_.bf, settings_.th_depth, *extractor_);

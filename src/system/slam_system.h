@@ -32,7 +32,7 @@ namespace esdslam {
 struct SlamOptions {
   bool single_thread = false;  // local mapping on the caller's thread (deterministic)
   unsigned seed = 0;           // seeds every random choice (none in the current pipeline)
-  TrackerOptions tracker;      // max_frames_between_keyframes is set from Settings::fps
+  TrackerOptions tracker;      // a run sets max_frames_between_keyframes from Camera.fps (system/run_config.h)
   LocalMapperOptions mapping;
   FrameOptions frame;
   LoopOptions loop;            // place recognition, relocalization, loop closing (system/loop_settings.h)
@@ -60,6 +60,7 @@ struct TrackOutcome {
 
 class SlamSystem {
  public:
+  // Takes both as they are (checked, never changed). Throws Error on a failed check.
   SlamSystem(const Settings& settings, const SlamOptions& options);
   ~SlamSystem();
   SlamSystem(const SlamSystem&) = delete;
@@ -82,6 +83,7 @@ class SlamSystem {
   // world_from_cam of the live keyframes, by id.
   std::vector<StampedPose> KeyFrameTrajectory() const;
 
+  const SlamOptions& options() const { return options_; }
   TrackingState state() const { return tracker_->state(); }
   int num_keyframes() const { return map_->num_keyframes(); }
   int num_map_points() const { return map_->num_map_points(); }
@@ -104,8 +106,8 @@ class SlamSystem {
     Rigid3 cam_from_reference;
   };
 
-  Settings settings_;
-  SlamOptions options_;
+  const Settings settings_;
+  const SlamOptions options_;
   std::unique_ptr<OrbExtractor> extractor_;
   std::shared_ptr<const RgbdRig> rig_;
   std::unique_ptr<Map> map_;

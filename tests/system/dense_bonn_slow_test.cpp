@@ -15,7 +15,8 @@
 #include "dense/cloud_io.h"
 #include "io/trajectory_io.h"
 #include "io/tum_sequence.h"
-#include "system/dynamic_run.h"
+#include "system/pipeline.h"
+#include "system/run_loop.h"
 #include "support/temp_path.h"
 #include "support/test_paths.h"
 
@@ -72,19 +73,20 @@ void CheckKeyframe(const octomap::OcTree& tree, const PinholeCamera& camera, con
 
 TEST(DenseBonnSlowTest, OctomapFloorAndWallsOccupiedRaysFree) {
   if (!std::filesystem::exists(kDir)) GTEST_SKIP() << kDir << " not found";
-  const RunSettings settings = LoadRunSettings(::esdslam::testing::SourceDir() + "/config/bonn.yaml");
   const TumSequence sequence = TumSequence::Open(kDir);
   const std::string out = testing::TestTempPath("dense_bonn");
   std::filesystem::remove_all(out);
+  RunFlags flags;
+  flags.single_thread = true;  // dense mapping on the tracking thread too
+  flags.dense = true;
+  flags.run.out_dir = out;  // masks in OUT/masks
+  const RunConfig config =
+      ResolveRunConfig(LoadRunSettings(::esdslam::testing::SourceDir() + "/config/bonn.yaml"), flags);
+  const RunSettings& settings = config.settings;
   {
-    SlamOptions slam;
-    slam.single_thread = true;
-    DynamicRunOptions options;
-    options.dense = true;
-    options.threaded_dense = false;
-    options.dense_mask_dir = out + "/masks";
-    DynamicRun run(settings, slam, options, sequence.frames());
-    for (std::size_t i = 0; i < sequence.frames().size(); ++i) run.Step(i);
+    TumFolderSource source(sequence.frames(), settings.core.depth_map_factor);
+    Pipeline run(config);
+    RunFrames(source, run, [](const FrameReport&) {});
     run.Finish(out);
   }
   octomap::OcTree tree(0.1);

@@ -16,7 +16,8 @@
 #include "io/trajectory_io.h"
 #include "io/tum_sequence.h"
 #include "synth/synthetic_scene.h"
-#include "system/dynamic_run.h"
+#include "system/pipeline.h"
+#include "system/run_loop.h"
 #include "system/dynamic_sequence.h"
 #include "support/temp_path.h"
 
@@ -93,20 +94,19 @@ double PoseDisplacement(const std::vector<StampedPose>& truth, const std::vector
 }
 
 DenseRun RunDenseUncached(DynamicMode mode) {
-  const RunSettings settings = LoadRunSettings(SequenceDir() + "/run.yaml");
-  const TumSequence sequence = TumSequence::Open(SequenceDir());
   DenseRun result;
   result.out = testing::TestTempPath(fmt::format("dense_run_{}", ToString(mode)));
   std::filesystem::remove_all(result.out);
-  SlamOptions slam;
-  slam.single_thread = true;
-  DynamicRunOptions options;
-  options.mode = mode;
-  options.dense = true;
-  options.threaded_dense = false;
-  options.dense_mask_dir = result.out + "/masks";
-  DynamicRun run(settings, slam, options, sequence.frames());
-  for (std::size_t i = 0; i < sequence.frames().size(); ++i) run.Step(i);
+  RunFlags flags;
+  flags.single_thread = true;  // dense mapping on the tracking thread too
+  flags.mode = mode;
+  flags.dense = true;
+  flags.run.out_dir = result.out;  // masks in OUT/masks
+  const RunConfig config = ResolveRunConfig(LoadRunSettings(SequenceDir() + "/run.yaml"), flags);
+  const RunSettings& settings = config.settings;
+  TumFolderSource source(TumSequence::Open(SequenceDir()).frames(), settings.core.depth_map_factor);
+  Pipeline run(config);
+  RunFrames(source, run, [](const FrameReport&) {});
   run.Finish(result.out);
   const std::vector<StampedPose> truth = ReadTumTrajectory(SequenceDir() + "/groundtruth.txt");
   const Similarity3 truth_from_slam = ComputeAte(truth, run.system().Trajectory()).groundtruth_from_estimate;

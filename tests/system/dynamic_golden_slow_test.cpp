@@ -12,7 +12,8 @@
 #include "eval/ate.h"
 #include "io/trajectory_io.h"
 #include "io/tum_sequence.h"
-#include "system/dynamic_run.h"
+#include "system/pipeline.h"
+#include "system/run_loop.h"
 #include "support/temp_path.h"
 #include "support/test_paths.h"
 
@@ -28,21 +29,21 @@ struct ModeResult {
 };
 
 ModeResult RunMode(const std::string& dir, const std::string& settings_file, DynamicMode mode) {
-  const RunSettings settings = LoadRunSettings(::esdslam::testing::SourceDir() + "/config/" + settings_file);
+  RunFlags flags;
+  flags.single_thread = true;
+  flags.mode = mode;
+  const RunConfig config =
+      ResolveRunConfig(LoadRunSettings(::esdslam::testing::SourceDir() + "/config/" + settings_file), flags);
   const TumSequence sequence = TumSequence::Open(dir);
-  SlamOptions slam;
-  slam.single_thread = true;
-  DynamicRunOptions options;
-  options.mode = mode;
-  DynamicRun run(settings, slam, options, sequence.frames());
+  TumFolderSource source(sequence.frames(), config.settings.core.depth_map_factor);
+  Pipeline run(config);
   ModeResult result;
-  for (std::size_t i = 0; i < sequence.frames().size(); ++i) {
-    const FrameStep step = run.Step(i);
-    result.tracked += step.outcome.has_pose;
-    result.geometry_keypoints += step.geometry_keypoints;
-    result.keypoints += step.keypoints;
+  RunFrames(source, run, [&result](const FrameReport& report) {
+    result.tracked += report.track.has_pose;
+    result.geometry_keypoints += report.keypoints.by_geometry;
+    result.keypoints += report.keypoints.total;
     ++result.frames;
-  }
+  });
   run.Finish(testing::TestTempPath("dynamic_golden"));
   result.ate_rmse =
       ComputeAte(ReadTumTrajectory(sequence.groundtruth_path()), run.system().Trajectory()).translation_m.rmse;

@@ -20,7 +20,8 @@
 #include "map/keyframe.h"
 #include "map/map_point.h"
 #include "system/dynamic_sequence.h"
-#include "system/dynamic_run.h"
+#include "system/pipeline.h"
+#include "system/run_loop.h"
 #include "support/temp_path.h"
 
 namespace esdslam {
@@ -118,34 +119,34 @@ int CountPointsFromMovers(Map& map, int* live) {
 }
 
 // Fraction of each frame's person mask (from the labels used) that the refined mask improves on.
-void ScoreMasks(const FrameStep& step, const cv::Mat& gt, const std::string& labels_dir, RunOutcome* out, int* scored) {
-  if (step.mask.mask.empty() || cv::countNonZero(gt) == 0) return;
-  const cv::Mat labels = cv::imread(fmt::format("{}/{:.6f}.png", labels_dir, step.timestamp), cv::IMREAD_UNCHANGED);
+void ScoreMasks(const FrameReport& report, const cv::Mat& gt, const std::string& labels_dir, RunOutcome* out,
+                int* scored) {
+  if (report.mask.mask.empty() || cv::countNonZero(gt) == 0) return;
+  const cv::Mat labels = cv::imread(fmt::format("{}/{:.6f}.png", labels_dir, report.timestamp), cv::IMREAD_UNCHANGED);
   if (labels.empty()) return;
-  out->refined_iou += IoU(step.mask.mask != 0, gt != 0);
+  out->refined_iou += IoU(report.mask.mask != 0, gt != 0);
   out->raw_iou += IoU(labels == kVocPerson, gt != 0);
   ++*scored;
 }
 
 RunOutcome RunMode(DynamicMode mode, const std::string& settings_path = SequenceDir() + "/run.yaml") {
-  const RunSettings settings = LoadRunSettings(settings_path);
-  const TumSequence sequence = TumSequence::Open(SequenceDir());
-  SlamOptions slam;
-  slam.single_thread = true;
-  DynamicRunOptions options;
-  options.mode = mode;
-  options.mask_extraction = false;  // extract everywhere: the flags are what we measure
-  DynamicRun run(settings, slam, options, sequence.frames());
+  RunFlags flags;
+  flags.single_thread = true;
+  flags.mode = mode;
+  flags.mask_extraction = false;  // extract everywhere: the flags are what we measure
+  const RunConfig config = ResolveRunConfig(LoadRunSettings(settings_path), flags);
+  const RunSettings& settings = config.settings;
+  TumFolderSource source(TumSequence::Open(SequenceDir()).frames(), settings.core.depth_map_factor);
+  Pipeline run(config);
   RunOutcome out;
   int scored = 0;
-  for (std::size_t i = 0; i < sequence.frames().size(); ++i) {
-    const FrameStep step = run.Step(i);
-    out.tracked += step.outcome.has_pose;
-    out.geometry_flagged += step.geometry_keypoints;
-    out.geometry_culled += step.outcome.geometry.points_culled;
-    const cv::Mat gt = GroundTruthMoverMask(step.timestamp);
-    ScoreMasks(step, gt, settings.semantic.folder.folder, &out, &scored);
-    const FeatureSet& features = run.system().last_frame().features();
+  RunFrames(source, run, [&](const FrameReport& report) {
+    out.tracked += report.track.has_pose;
+    out.geometry_flagged += report.keypoints.by_geometry;
+    out.geometry_culled += report.track.geometry.points_culled;
+    const cv::Mat gt = GroundTruthMoverMask(report.timestamp);
+    ScoreMasks(report, gt, settings.semantic.folder.folder, &out, &scored);
+    const FeatureSet& features = *report.features;
     for (int k = 0; k < features.size(); ++k) {
       const cv::Point2f pt = features.keypoints[k].pt;
       const bool on_mover = gt.at<std::uint8_t>(cvRound(pt.y), cvRound(pt.x)) != 0;
@@ -153,7 +154,7 @@ RunOutcome RunMode(DynamicMode mode, const std::string& settings_path = Sequence
       out.flagged += features.is_dynamic[k] != 0;
       out.flagged_on_mover += on_mover && features.is_dynamic[k];
     }
-  }
+  });
   run.Finish(testing::TestTempPath("dynamic_run_test_out"));
   out.points_from_movers = CountPointsFromMovers(run.system().map(), &out.live_points);
   out.ate_rmse = ComputeAte(ReadTumTrajectory(SequenceDir() + "/groundtruth.txt"), run.system().Trajectory())

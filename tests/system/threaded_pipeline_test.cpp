@@ -11,8 +11,9 @@
 #include "io/trajectory_io.h"
 #include "io/tum_sequence.h"
 #include "support/temp_path.h"
-#include "system/dynamic_run.h"
 #include "system/dynamic_sequence.h"
+#include "system/pipeline.h"
+#include "system/run_loop.h"
 
 namespace esdslam {
 namespace {
@@ -20,20 +21,19 @@ namespace {
 TEST(ThreadedPipelineTest, AllThreadsTogetherTrackEveryFrameAndShutDownCleanly) {
   constexpr int kFrames = 30;
   const std::string dir = testing::DynamicTestSequence(kFrames);
-  const RunSettings settings = LoadRunSettings(dir + "/run.yaml");
-  const TumSequence sequence = TumSequence::Open(dir);
-  SlamOptions slam;
-  slam.single_thread = false;
-  DynamicRunOptions options;
-  options.mode = DynamicMode::kFull;
-  options.realtime = true;
-  options.dense = true;
-  options.threaded_dense = true;
+  RunFlags flags;
+  flags.mode = DynamicMode::kFull;
+  flags.realtime = true;
+  flags.dense = true;
+  flags.single_thread = false;
+  const RunConfig config = ResolveRunConfig(LoadRunSettings(dir + "/run.yaml"), flags);
+  ASSERT_TRUE(config.pipeline.threaded_dense);
+  TumFolderSource source(TumSequence::Open(dir).frames(), config.settings.core.depth_map_factor);
   const std::string out = testing::TestTempPath("threaded_pipeline");
   int tracked = 0;
   {
-    DynamicRun run(settings, slam, options, sequence.frames());
-    for (std::size_t i = 0; i < sequence.frames().size(); ++i) tracked += run.Step(i).outcome.has_pose;
+    Pipeline run(config);
+    RunFrames(source, run, [&tracked](const FrameReport& report) { tracked += report.track.has_pose; });
     ASSERT_NE(run.dense(), nullptr);
     run.Finish(out);
     const std::vector<StampedPose> trajectory = run.system().Trajectory();

@@ -1,0 +1,54 @@
+#pragma once
+// Where a run's frames come from. The run loop (system/run_loop.h) asks a FrameSource for one
+// frame at a time, in time order, on the tracking thread; it takes the next frame before it
+// tracks the current one (look-ahead, so segmentation of frame i+1 overlaps tracking of frame i).
+//
+// Today: TumFolderSource, a TUM-layout folder read frame by frame. The interface is what later
+// sources implement (none of them exists yet): a loader thread filling a bounded queue ahead of
+// the run loop, sensor-clock playback of a folder that drops frames arriving while the system
+// is busy, a live OpenNI2 camera. A source that drops frames simply does not return them.
+
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "io/tum_sequence.h"
+
+namespace esdslam {
+
+// One RGB-D frame as the pipeline takes it (the images are shared, never written afterwards).
+struct RgbdFrame {
+  double timestamp = 0;  // seconds, the colour image's time (the frame's time)
+  cv::Mat bgr;           // CV_8UC3 (or CV_8UC1 grey), OpenCV channel order as decoded
+  cv::Mat depth_m;       // CV_32F metres, 0 = invalid; same size as bgr
+};
+
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  // The next frame, or nullopt after the last one. Throws InputError naming the file (or the
+  // device) when a frame cannot be read.
+  virtual std::optional<RgbdFrame> Next() = 0;
+  // Frames this source will return in all, when known in advance (progress); nullopt for a
+  // live source.
+  virtual std::optional<std::size_t> frame_count() const = 0;
+};
+
+// The frames of a TUM-layout sequence (io/tum_sequence.h), read from disk one per Next().
+class TumFolderSource final : public FrameSource {
+ public:
+  // frames: in time order (e.g. the first N of TumSequence::frames()); depth_map_factor as in
+  // LoadRgbd.
+  TumFolderSource(std::vector<FrameEntry> frames, double depth_map_factor);
+  std::optional<RgbdFrame> Next() override;
+  std::optional<std::size_t> frame_count() const override { return frames_.size(); }
+
+ private:
+  std::vector<FrameEntry> frames_;
+  double depth_map_factor_;
+  std::size_t next_ = 0;
+};
+
+}  // namespace esdslam

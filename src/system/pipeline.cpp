@@ -1,0 +1,129 @@
+#include "system/pipeline.h"
+
+#include <optional>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "common/error.h"
+#include "io/trajectory_io.h"
+#include "tracking/frame.h"
+
+namespace esdslam {
+namespace {
+
+// Where the geometry check is not applied: labelled static classes, and the semantic mask
+// (already dynamic). Empty when neither exists.
+cv::Mat GeometryExempt(const DynamicMaskResult& mask) {
+  if (mask.mask.empty()) return mask.static_objects;
+  if (mask.static_objects.empty()) return mask.mask;
+  return mask.mask | mask.static_objects;
+}
+
+cv::Mat Union(const cv::Mat& a, const cv::Mat& b) {
+  if (a.empty()) return b;
+  if (b.empty()) return a;
+  return a | b;
+}
+
+const RunConfig& Checked(const RunConfig& config) {
+  config.Check();
+  return config;
+}
+
+}  // namespace
+
+KeypointCounts CountKeypoints(const FeatureSet& features) {
+  KeypointCounts counts;
+  counts.total = features.size();
+  for (const std::uint8_t flag : features.is_dynamic) {
+    counts.dynamic += flag != 0;
+    counts.by_geometry += flag == kDynamicByGeometry;
+  }
+  return counts;
+}
+
+Pipeline::Pipeline(const RunConfig& config) : config_(Checked(config)) {
+  const RunSettings& settings = config_.settings;
+  if (UsesSegmentation(config_.pipeline.mode))
+    semantic_ = std::make_unique<SemanticFrontEnd>(settings.semantic, settings.region_growing,
+                                                   PinholeCamera(settings.core.camera), settings.mask_dilation_px);
+  system_ = std::make_unique<SlamSystem>(settings.core, config_.slam);
+  if (config_.pipeline.dense) {
+    dense_poses_ = std::make_unique<SlamKeyframePoses>(&system_->map());
+    DenseMapperOptions dense_options;
+    dense_options.threaded = config_.pipeline.threaded_dense;
+    dense_options.mask_dir = config_.pipeline.dense_mask_dir;
+    dense_ = std::make_unique<DenseMapper>(PinholeCamera(settings.core.camera), settings.dense,
+                                           [poses = dense_poses_.get()] { return poses->Poses(); }, dense_options);
+  }
+}
+
+Pipeline::~Pipeline() {
+  try {
+    if (semantic_) semantic_->Stop();
+    if (dense_) dense_->Finish();
+  } catch (const std::exception& e) {
+    spdlog::error("run: shutdown failed: {}", e.what());
+  }
+}
+
+void Pipeline::SubmitAhead(const RgbdFrame& frame) {
+  if (finished_) throw Error("pipeline: frame submitted after Finish");
+  if (semantic_) semantic_->Submit(next_id_, frame.timestamp, frame.bgr);
+  ++next_id_;
+  ahead_.push_back(frame.timestamp);
+}
+
+FrameReport Pipeline::Track(const RgbdFrame& frame) {
+  if (finished_) throw Error("pipeline: Track after Finish");
+  if (ahead_.empty()) SubmitAhead(frame);
+  if (ahead_.front() != frame.timestamp)
+    throw Error(fmt::format("pipeline: frame {:.6f} tracked, but frame {:.6f} was submitted first", frame.timestamp,
+                            ahead_.front()));
+  FrameReport report;
+  report.index = next_id_ - static_cast<std::int64_t>(ahead_.size());
+  ahead_.pop_front();
+  report.timestamp = frame.timestamp;
+  report.bgr = frame.bgr;
+  if (semantic_) report.mask = semantic_->MaskFor(report.index, frame.depth_m);
+  report.track = system_->TrackRgbd(frame.bgr, frame.depth_m, frame.timestamp, report.mask.mask,
+                                    GeometryExempt(report.mask));
+  report.features = system_->last_frame().shared_features();
+  report.keypoints = CountKeypoints(*report.features);
+  if (semantic_) {
+    std::optional<Rigid3> pose;
+    if (report.track.has_pose) pose = report.track.world_from_cam;
+    semantic_->RecordPose(report.index, frame.depth_m, pose);
+  }
+  if (report.track.new_keyframe)
+    AddDenseKeyframe(frame, Union(report.mask.mask, report.geometry_mask()), report.track.keyframe);
+  return report;
+}
+
+void Pipeline::AddDenseKeyframe(const RgbdFrame& frame, const cv::Mat& mask, KeyFrame* keyframe) {
+  if (!dense_ || keyframe == nullptr) return;
+  dense_poses_->Register(keyframe);
+  dense_->AddKeyframe({keyframe->id(), frame.timestamp, keyframe->world_from_cam(), frame.bgr, frame.depth_m, mask});
+}
+
+void Pipeline::Finish(const std::string& out_dir) {
+  if (finished_) return;
+  finished_ = true;
+  if (semantic_) semantic_->Stop();
+  system_->Shutdown();
+  if (!dense_) return;
+  dense_->Finish();
+  const DenseOutputSummary summary = dense_->WriteOutputs(out_dir);
+  WriteTumTrajectory(out_dir + "/dense_keyframes.txt", dense_->map().StampedPoses(dense_->CurrentPoses()));
+  const DenseMapperStats stats = dense_->stats();
+  spdlog::info("dense: {} points from {} keyframes, {} occupied octomap leaves, final build {:.0f} ms "
+               "(cloud {:.0f}, octomap {:.0f}); per keyframe {:.1f} ms (max {:.1f}, reading poses {:.1f}; CPU {:.1f}) on the dense "
+               "thread, {} re-indexings ({:.1f} M points); hand-off {:.3f} ms (max {:.3f}); map {:.1f} MB + rays {:.1f} MB",
+               summary.points, summary.keyframes, summary.occupied_leaves, summary.build_ms, summary.cloud_ms,
+               summary.octomap_ms, stats.mean_keyframe_ms, stats.max_keyframe_ms, stats.mean_pose_ms, stats.mean_keyframe_cpu_ms,
+               stats.map.reindexed_anchors, stats.map.reindexed_points / 1e6, stats.mean_handoff_ms, stats.max_handoff_ms, stats.map.point_bytes / 1e6,
+               stats.map.ray_bytes / 1e6);
+}
+
+}  // namespace esdslam

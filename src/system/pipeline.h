@@ -1,0 +1,83 @@
+#pragma once
+// The whole per-frame pipeline, given one frame's images at a time: the dynamic stages switched
+// by PipelineOptions::mode (system/run_config.h), the SLAM system, the dense mapper. It knows
+// nothing about where frames come from (a folder, a camera, a library caller): the run loop
+// (system/run_loop.h) feeds it from a FrameSource.
+//
+// Per frame, Track():
+//   1. the frame's dynamic mask from the semantic stage (every frame: waits for its labels; real
+//      time: the newest labels carried to the frame), empty without segmentation;
+//   2. tracking with it (SlamSystem::TrackRgbd: the extractor spends its budget on the static
+//      area; the geometry check runs inside tracking, the semantic mask and labelled static
+//      classes exempt from it);
+//   3. the pose recorded for the real-time mask carrying; a new keyframe handed to the dense
+//      mapper with its depth masked by the semantic and the geometry masks;
+//   4. the FrameReport (system/frame_report.h).
+// Look-ahead: SubmitAhead(frame) hands a frame's colour image to the segmentation thread before
+// the previous frame is tracked, so the network runs while extraction and tracking do (the run
+// loop submits frame i+1, then tracks frame i). A frame not submitted ahead is submitted by
+// Track itself (a live caller without look-ahead simply calls Track). Frames are numbered in
+// submission order (FrameReport::index); they must be tracked in that order.
+// Seams for later work: the frame's id is the one place to decide which frames the network
+// labels (segment every K-th frame); a user's own dynamic mask would join the mask in step 1.
+//
+// Threading: all calls from one thread (the tracking thread). The segmentation, local-mapping,
+// loop-closing and dense threads are owned here and stopped by Finish() or the destructor.
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "dense/dense_mapper.h"
+#include "dense/slam_keyframe_poses.h"
+#include "dynamic/semantic_front_end.h"
+#include "io/frame_source.h"
+#include "system/frame_report.h"
+#include "system/run_config.h"
+#include "system/slam_system.h"
+
+namespace esdslam {
+
+class Pipeline {
+ public:
+  // Takes the configuration as it is (checked, never changed). Throws Error.
+  explicit Pipeline(const RunConfig& config);
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  // Starts segmenting `frame` (no-op without segmentation) and gives it the next frame id.
+  // The images are shared, not copied: never write into them afterwards.
+  void SubmitAhead(const RgbdFrame& frame);
+  // Tracks the oldest frame submitted ahead (it must be `frame`: same timestamp), or `frame` if
+  // none waits. Throws Error on bad images, a failed stage, or after Finish.
+  FrameReport Track(const RgbdFrame& frame);
+  // Stops the threads; with dense, writes out_dir/dense.ply, octomap.bt, dense_top.png,
+  // dense_view.png and dense_keyframes.txt (every dense keyframe, culled ones included) at the
+  // keyframes' final poses. Idempotent.
+  void Finish(const std::string& out_dir);
+
+  const RunConfig& config() const { return config_; }
+  SlamSystem& system() { return *system_; }
+  const SlamSystem& system() const { return *system_; }
+  // Null without dense. Thread-safe on-demand builds at the current keyframe poses.
+  const DenseMapper* dense() const { return dense_.get(); }
+  const SemanticFrontEnd* semantic() const { return semantic_.get(); }
+
+ private:
+  void AddDenseKeyframe(const RgbdFrame& frame, const cv::Mat& mask, KeyFrame* keyframe);
+
+  const RunConfig config_;
+  std::unique_ptr<SemanticFrontEnd> semantic_;
+  std::unique_ptr<SlamSystem> system_;
+  std::unique_ptr<SlamKeyframePoses> dense_poses_;  // before dense_: its worker reads them
+  std::unique_ptr<DenseMapper> dense_;
+  std::int64_t next_id_ = 0;         // id of the next frame submitted
+  std::deque<double> ahead_;         // timestamps of the frames submitted but not tracked, oldest first
+  bool finished_ = false;
+};
+
+}  // namespace esdslam

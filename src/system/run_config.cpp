@@ -1,0 +1,119 @@
+#include "system/run_config.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include <spdlog/spdlog.h>
+
+#include "common/error.h"
+
+namespace esdslam {
+
+const char* ToString(DynamicMode mode) {
+  switch (mode) {
+    case DynamicMode::kNone: return "none";
+    case DynamicMode::kSemantic: return "semantic";
+    case DynamicMode::kGeometry: return "geometry";
+    case DynamicMode::kFull: return "full";
+  }
+  return "?";
+}
+
+DynamicMode ParseDynamicMode(const std::string& text) {
+  for (DynamicMode mode : {DynamicMode::kNone, DynamicMode::kSemantic, DynamicMode::kGeometry, DynamicMode::kFull})
+    if (text == ToString(mode)) return mode;
+  throw Error("unknown dynamic mode '" + text + "' (none | semantic | geometry | full)");
+}
+
+bool UsesSegmentation(DynamicMode mode) { return mode == DynamicMode::kSemantic || mode == DynamicMode::kFull; }
+bool UsesGeometryCheck(DynamicMode mode) { return mode == DynamicMode::kGeometry || mode == DynamicMode::kFull; }
+
+void PipelineOptions::Check() const {
+  if (std::string(ToString(mode)) == "?") throw Error("pipeline: unknown dynamic mode");
+  if (!dense && !dense_mask_dir.empty()) throw Error("pipeline: dense_mask_dir needs the dense map");
+}
+
+void RunOptions::Check() const {
+  if (max_frames < 0) throw Error("run: max_frames must be >= 0 (0 = all), got " + std::to_string(max_frames));
+}
+
+int MaxFramesBetweenKeyframes(double fps) { return std::max(1, static_cast<int>(std::lround(fps))); }
+
+namespace {
+
+// The settings keys of the SLAM options' copies must be those recorded from `settings`.
+void CheckSlamAgreesWithSettings(const RunSettings& settings, const SlamOptions& slam) {
+  RunSettings from_slam = settings;
+  from_slam.loop = slam.loop;
+  from_slam.geometry = slam.geometry;
+  if (RunSettingsYaml(from_slam) != RunSettingsYaml(settings))
+    throw Error("run config: the SLAM options' Loop.* or Dynamic.check.* values differ from the settings");
+  if (slam.tracker.max_frames_between_keyframes != MaxFramesBetweenKeyframes(settings.core.fps))
+    throw Error("run config: the keyframe interval differs from Camera.fps");
+}
+
+}  // namespace
+
+void RunConfig::Check() const {
+  settings.Check();
+  slam.Check();
+  pipeline.Check();
+  run.Check();
+  CheckSlamAgreesWithSettings(settings, slam);
+  if (slam.geometry_check != UsesGeometryCheck(pipeline.mode))
+    throw Error(std::string("run config: the geometry check does not match mode ") + ToString(pipeline.mode));
+  if (slam.frame.mask_extraction && !UsesSegmentation(pipeline.mode))
+    throw Error(std::string("run config: masked extraction needs segmentation, not mode ") + ToString(pipeline.mode));
+}
+
+RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags) {
+  RunConfig config;
+  if (flags.no_relocalization) settings.loop.relocalization = false;
+  if (flags.no_loop) settings.loop.closing = false;
+  if (flags.realtime) settings.semantic.mode = SegmentationMode::kNewestWins;
+  config.settings = std::move(settings);
+  SlamOptions& slam = config.slam;
+  slam.single_thread = flags.single_thread;
+  slam.seed = flags.seed;
+  slam.tracker.max_frames_between_keyframes = MaxFramesBetweenKeyframes(config.settings.core.fps);
+  slam.tracker.localization_only = flags.localization;
+  slam.loop = config.settings.loop;
+  slam.geometry_check = UsesGeometryCheck(flags.mode);
+  slam.geometry = config.settings.geometry;
+  // Every-frame mode knows the mask before extraction; real time knows a carried mask.
+  slam.frame.mask_extraction = UsesSegmentation(flags.mode) && flags.mask_extraction;
+  slam.load_map = flags.load_map;
+  config.pipeline.mode = flags.mode;
+  config.pipeline.dense = flags.dense;
+  if (flags.dense && !flags.run.out_dir.empty())
+    config.pipeline.dense_mask_dir = (std::filesystem::path(flags.run.out_dir) / "masks").string();
+  config.pipeline.threaded_dense = !flags.single_thread;
+  config.run = flags.run;
+  config.Check();
+  return config;
+}
+
+void LogRunConfig(const RunConfig& config) {
+  const Settings& s = config.settings.core;
+  const auto& c = s.camera;
+  spdlog::info("run: sequence {} -> {}", config.run.sequence_dir, config.run.out_dir);
+  spdlog::info("run: camera fx={} fy={} cx={} cy={} k=[{} {} {} {} {}] {}x{} fps={}", c.fx, c.fy, c.cx, c.cy, c.k1,
+               c.k2, c.p1, c.p2, c.k3, c.width, c.height, s.fps);
+  spdlog::info("run: bf={} ThDepth={} DepthMapFactor={} RGB={} ORB nFeatures={} scale={} levels={} FAST={}/{}", s.bf,
+               s.th_depth, s.depth_map_factor, s.rgb_order, s.orb.num_features, s.orb.scale_factor, s.orb.num_levels,
+               s.orb.initial_fast_threshold, s.orb.min_fast_threshold);
+  spdlog::info("run: {} seed={}", config.slam.single_thread ? "single-thread" : "two threads", config.slam.seed);
+  const bool realtime = config.settings.semantic.mode == SegmentationMode::kNewestWins;
+  spdlog::info("run: mode {}, segmentation {}, dense {}, debug frames {}", ToString(config.pipeline.mode),
+               realtime ? "real time (newest wins)" : "every frame", config.pipeline.dense ? "on" : "off",
+               config.run.debug_frames_dir.empty() ? "off" : config.run.debug_frames_dir);
+  std::istringstream lines(RunSettingsYaml(config.settings));
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("%YAML", 0) != 0) spdlog::info("settings: {}", line);
+  }
+}
+
+}  // namespace esdslam

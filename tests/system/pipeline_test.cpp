@@ -1,0 +1,137 @@
+// The pipeline on a short synthetic dynamic sequence (mode full, folder segmenter on perfect
+// labels, single thread): one report per frame from the run loop, the frames given as images,
+// the look-ahead order, and the same trajectory with or without look-ahead.
+#include <filesystem>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "common/error.h"
+#include "io/tum_sequence.h"
+#include "support/temp_path.h"
+#include "system/dynamic_sequence.h"
+#include "system/pipeline.h"
+#include "system/run_loop.h"
+#include "system/run_outputs.h"
+
+namespace esdslam {
+namespace {
+
+constexpr int kFrames = 12;
+
+RunConfig Config() {
+  RunFlags flags;
+  flags.single_thread = true;
+  flags.mode = DynamicMode::kFull;
+  return ResolveRunConfig(LoadRunSettings(testing::DynamicTestSequence(kFrames) + "/run.yaml"), flags);
+}
+
+std::vector<RgbdFrame> Frames(const RunConfig& config) {
+  TumFolderSource source(TumSequence::Open(testing::DynamicTestSequence(kFrames)).frames(),
+                         config.settings.core.depth_map_factor);
+  std::vector<RgbdFrame> frames;
+  while (std::optional<RgbdFrame> frame = source.Next()) frames.push_back(std::move(*frame));
+  return frames;
+}
+
+// A source over frames already in memory.
+class MemorySource final : public FrameSource {
+ public:
+  explicit MemorySource(const std::vector<RgbdFrame>& frames) : frames_(frames) {}
+  std::optional<RgbdFrame> Next() override {
+    if (next_ == frames_.size()) return std::nullopt;
+    return frames_[next_++];
+  }
+  std::optional<std::size_t> frame_count() const override { return frames_.size(); }
+
+ private:
+  const std::vector<RgbdFrame>& frames_;
+  std::size_t next_ = 0;
+};
+
+TEST(PipelineTest, RunLoopReportsEveryFrameOnce) {
+  const RunConfig config = Config();
+  const std::vector<RgbdFrame> frames = Frames(config);
+  ASSERT_EQ(frames.size(), static_cast<std::size_t>(kFrames));
+  MemorySource source(frames);
+  Pipeline pipeline(config);
+  std::vector<FrameReport> reports;
+  const std::string debug_dir = testing::TestTempPath("pipeline_debug");
+  std::filesystem::create_directories(debug_dir);
+  RunFrames(source, pipeline, [&](const FrameReport& report) {
+    reports.push_back(report);
+    WriteDebugFrame(debug_dir, report);
+  });
+  ASSERT_EQ(reports.size(), frames.size());
+  int masked = 0;
+  for (std::size_t i = 0; i < reports.size(); ++i) {
+    const FrameReport& r = reports[i];
+    EXPECT_EQ(r.index, static_cast<std::int64_t>(i));
+    EXPECT_EQ(r.timestamp, frames[i].timestamp);
+    EXPECT_TRUE(r.track.has_pose) << i;
+    EXPECT_EQ(r.label_age(), 0) << i;  // every-frame labels
+    EXPECT_GE(r.load_ms, 0);
+    ASSERT_NE(r.features, nullptr);
+    const KeypointCounts counts = CountKeypoints(*r.features);
+    EXPECT_EQ(r.keypoints.total, counts.total);
+    EXPECT_EQ(r.keypoints.dynamic, counts.dynamic);
+    EXPECT_EQ(r.keypoints.by_geometry, r.track.geometry.flagged_keypoints) << i;
+    EXPECT_EQ(r.bgr.data, frames[i].bgr.data);  // shared, not copied
+    masked += r.mask.dynamic_fraction > 0;
+    EXPECT_TRUE(std::filesystem::exists(fmt::format("{}/{:.6f}.png", debug_dir, r.timestamp)));
+  }
+  EXPECT_EQ(masked, kFrames);  // the people are in view from the first frame (perfect labels)
+  EXPECT_EQ(reports.back().track.geometry.ran, true);
+}
+
+// A caller without look-ahead (one Track per frame) gets the same trajectory: every-frame mode
+// waits for each frame's labels either way.
+TEST(PipelineTest, TrackWithoutLookAheadGivesTheSameTrajectory) {
+  const RunConfig config = Config();
+  const std::vector<RgbdFrame> frames = Frames(config);
+  Pipeline ahead(config), direct(config);
+  MemorySource source(frames);
+  RunFrames(source, ahead, [](const FrameReport&) {});
+  for (const RgbdFrame& frame : frames) direct.Track(frame);
+  ahead.Finish(testing::TestTempPath("pipeline_ahead"));
+  direct.Finish(testing::TestTempPath("pipeline_direct"));
+  const std::vector<StampedPose> a = ahead.system().Trajectory(), b = direct.system().Trajectory();
+  ASSERT_EQ(a.size(), frames.size());
+  ASSERT_EQ(b.size(), a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].world_from_cam.translation(), b[i].world_from_cam.translation()) << i;
+    EXPECT_EQ(a[i].world_from_cam.rotation().coeffs(), b[i].world_from_cam.rotation().coeffs()) << i;
+  }
+}
+
+TEST(PipelineTest, FramesAreTrackedInSubmissionOrder) {
+  const RunConfig config = Config();
+  const std::vector<RgbdFrame> frames = Frames(config);
+  Pipeline pipeline(config);
+  pipeline.SubmitAhead(frames[0]);
+  pipeline.SubmitAhead(frames[1]);
+  EXPECT_THROW(pipeline.Track(frames[1]), Error);  // frame 0 waits first
+  EXPECT_EQ(pipeline.Track(frames[0]).index, 0);
+  EXPECT_EQ(pipeline.Track(frames[1]).index, 1);
+  EXPECT_EQ(pipeline.Track(frames[2]).index, 2);  // not submitted ahead: submitted by Track
+  pipeline.Finish(testing::TestTempPath("pipeline_order"));
+  EXPECT_THROW(pipeline.Track(frames[3]), Error);
+  EXPECT_THROW(pipeline.SubmitAhead(frames[3]), Error);
+}
+
+TEST(PipelineTest, SourceErrorsReachTheCallerAfterTheFramesBefore) {
+  const RunConfig config = Config();
+  std::vector<FrameEntry> entries = TumSequence::Open(testing::DynamicTestSequence(kFrames)).frames();
+  entries.resize(4);
+  entries[3].depth_path += ".missing";
+  TumFolderSource source(entries, config.settings.core.depth_map_factor);
+  EXPECT_EQ(source.frame_count(), 4u);
+  Pipeline pipeline(config);
+  int reported = 0;
+  EXPECT_THROW(RunFrames(source, pipeline, [&reported](const FrameReport&) { ++reported; }), InputError);
+  EXPECT_EQ(reported, 2);  // frame 3 is read ahead while frame 2 waits
+}
+
+}  // namespace
+}  // namespace esdslam
