@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <sstream>
 
 #include <spdlog/spdlog.h>
@@ -10,6 +11,11 @@
 #include "common/error.h"
 
 namespace esdslam {
+
+namespace {
+constexpr DynamicMode kDynamicModes[] = {DynamicMode::kNone, DynamicMode::kSemantic, DynamicMode::kGeometry,
+                                         DynamicMode::kFull};
+}  // namespace
 
 const char* ToString(DynamicMode mode) {
   switch (mode) {
@@ -22,7 +28,7 @@ const char* ToString(DynamicMode mode) {
 }
 
 DynamicMode ParseDynamicMode(const std::string& text) {
-  for (DynamicMode mode : {DynamicMode::kNone, DynamicMode::kSemantic, DynamicMode::kGeometry, DynamicMode::kFull})
+  for (DynamicMode mode : kDynamicModes)
     if (text == ToString(mode)) return mode;
   throw Error("unknown dynamic mode '" + text + "' (none | semantic | geometry | full)");
 }
@@ -31,7 +37,8 @@ bool UsesSegmentation(DynamicMode mode) { return mode == DynamicMode::kSemantic 
 bool UsesGeometryCheck(DynamicMode mode) { return mode == DynamicMode::kGeometry || mode == DynamicMode::kFull; }
 
 void PipelineOptions::Check() const {
-  if (std::string(ToString(mode)) == "?") throw Error("pipeline: unknown dynamic mode");
+  if (std::find(std::begin(kDynamicModes), std::end(kDynamicModes), mode) == std::end(kDynamicModes))
+    throw Error("pipeline: unknown dynamic mode " + std::to_string(static_cast<int>(mode)));
   if (!dense && !dense_mask_dir.empty()) throw Error("pipeline: dense_mask_dir needs the dense map");
 }
 

@@ -103,6 +103,9 @@ TEST(RunConfigTest, CheckRejectsOutOfRangeValuesAndDisagreeingParts) {
   changed = good;
   changed.pipeline.dense_mask_dir = "/tmp/masks";  // without the dense map
   EXPECT_THROW(changed.Check(), Error);
+  PipelineOptions pipeline;
+  pipeline.mode = static_cast<DynamicMode>(9);
+  EXPECT_THROW(pipeline.Check(), Error);
 }
 
 TEST(RunConfigTest, TheSlamSystemTakesItsOptionsAsTheyAre) {
