@@ -17,6 +17,7 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -33,10 +34,15 @@ namespace esdslam::bench {
 namespace {
 namespace fs = std::filesystem;
 
+const char* kDefaultCandidates =
+    "hold=hold;camera=camera;keypoints=keypoints;pixels=flow:carry=pixels;objects=flow:carry=objects;"
+    "both=flow:carry=both";
+
 struct Args {
   std::string synth_dir, real_dir, labels_dir;
   int max_age = 20;
   int source_step = 2;
+  std::string candidates = kDefaultCandidates;
 };
 
 struct Sequence {
@@ -150,32 +156,60 @@ void Score(const cv::Mat& predicted, const FrameData& frame, AgeStats& stats) {
   stats.covered_px += cv::countNonZero(frame.truth & refined);
 }
 
-std::vector<std::unique_ptr<Candidate>> MakeCandidates(const Sequence& seq, cv::Size size) {
+// A candidate from "NAME=KIND[:KEY=VALUE,...]": KIND hold | camera | keypoints | flow; flow keys
+// (MaskPredictorOptions): w flow_width_px, fs flow_finest_scale, ps flow_patch_size, st
+// flow_patch_stride, gd flow_gradient_iterations, vr flow_variational_iterations, occ
+// occlusion_abs_tolerance_m, fill fill_abs_tolerance_m, clean cleanup_radius_px, carry pixels|objects|both, dil age_dilation_px_per_frame,
+// erode objects.interior_erosion_px.
+std::unique_ptr<Candidate> MakeCandidate(const std::string& spec, const Sequence& seq, cv::Size size) {
+  const std::size_t eq = spec.find('=');
+  if (eq == std::string::npos) throw Error("candidate '" + spec + "': expected NAME=KIND[:KEY=VALUE,...]");
+  const std::string name = spec.substr(0, eq);
+  const std::size_t colon = spec.find(':', eq);
+  const std::string kind = spec.substr(eq + 1, colon == std::string::npos ? std::string::npos : colon - eq - 1);
+  if (kind == "hold") return std::make_unique<HoldCandidate>();
+  if (kind == "camera") return std::make_unique<CameraCandidate>(seq.camera);
+  if (kind == "keypoints") return std::make_unique<KeypointCandidate>();
+  if (kind != "flow") throw Error("candidate '" + spec + "': unknown kind " + kind);
+  MaskPredictorOptions o;
+  std::stringstream keys(colon == std::string::npos ? "" : spec.substr(colon + 1));
+  for (std::string item; std::getline(keys, item, ',');) {
+    const std::size_t e = item.find('=');
+    if (e == std::string::npos) throw Error("candidate '" + spec + "': expected KEY=VALUE, got " + item);
+    const std::string key = item.substr(0, e), value = item.substr(e + 1);
+    if (key == "w") o.flow_width_px = std::stoi(value);
+    else if (key == "fs") o.flow_finest_scale = std::stoi(value);
+    else if (key == "ps") o.flow_patch_size = std::stoi(value);
+    else if (key == "st") o.flow_patch_stride = std::stoi(value);
+    else if (key == "gd") o.flow_gradient_iterations = std::stoi(value);
+    else if (key == "vr") o.flow_variational_iterations = std::stoi(value);
+    else if (key == "occ") o.occlusion_abs_tolerance_m = std::stod(value);
+    else if (key == "fill") o.fill_abs_tolerance_m = std::stod(value);
+    else if (key == "clean") o.cleanup_radius_px = std::stoi(value);
+    else if (key == "dil") o.age_dilation_px_per_frame = std::stod(value);
+    else if (key == "erode") o.objects.interior_erosion_px = std::stoi(value);
+    else if (key == "carry" && value == "pixels") o.dynamic_carry = DynamicCarry::kPixels;
+    else if (key == "carry" && value == "objects") o.dynamic_carry = DynamicCarry::kObjects;
+    else if (key == "carry" && value == "both") o.dynamic_carry = DynamicCarry::kObjectsAndPixels;
+    else throw Error("candidate '" + spec + "': unknown key or value " + item);
+  }
+  return std::make_unique<FlowCandidate>(name, size, o);
+}
+
+std::vector<std::unique_ptr<Candidate>> MakeCandidates(const std::string& specs, const Sequence& seq, cv::Size size) {
   std::vector<std::unique_ptr<Candidate>> out;
-  out.push_back(std::make_unique<HoldCandidate>());
-  out.push_back(std::make_unique<CameraCandidate>(seq.camera));
-  out.push_back(std::make_unique<KeypointCandidate>());
-  MaskPredictorOptions no_occlusion;
-  no_occlusion.occlusion_abs_tolerance_m = 0;
-  out.push_back(std::make_unique<FlowCandidate>("flow-noocc", size, no_occlusion));
-  out.push_back(std::make_unique<FlowCandidate>("flow", size, MaskPredictorOptions{}));
-  MaskPredictorOptions fine;
-  fine.flow_finest_scale = 1;
-  out.push_back(std::make_unique<FlowCandidate>("flow-fine", size, fine));
-  MaskPredictorOptions small;
-  small.flow_width_px = 160;
-  small.flow_finest_scale = 1;
-  out.push_back(std::make_unique<FlowCandidate>("flow160", size, small));
-  MaskPredictorOptions grow;
-  grow.age_dilation_px_per_frame = 0.5;
-  out.push_back(std::make_unique<FlowCandidate>("flow+dil", size, grow));
+  std::stringstream list(specs);
+  for (std::string spec; std::getline(list, spec, ';');) {
+    if (!spec.empty()) out.push_back(MakeCandidate(spec, seq, size));
+  }
+  if (out.empty()) throw Error("no candidates");
   return out;
 }
 
 void Evaluate(const Sequence& seq, const Args& args) {
   FrameCache cache(seq);
   const cv::Size size = cache.Get(0).grey.size();
-  auto candidates = MakeCandidates(seq, size);
+  auto candidates = MakeCandidates(args.candidates, seq, size);
   std::vector<CandidateStats> stats(candidates.size());
   for (auto& s : stats) s.by_age.resize(static_cast<std::size_t>(args.max_age) + 1);
   const int last_source = static_cast<int>(seq.frames.size()) - 1 - args.max_age;
@@ -227,9 +261,10 @@ void Evaluate(const Sequence& seq, const Args& args) {
               seq.name.c_str());
   for (std::size_t c = 0; c < candidates.size(); ++c)
     std::printf("| %s | %.2f |\n", candidates[c]->Name().c_str(), stats[c].cpu_ms / std::max(1, stats[c].steps));
-  std::printf("\n%s, flow: mean uncovered fraction and trust by age\n\n| age | uncovered | trust |\n|---|---|---|\n",
-              seq.name.c_str());
-  const std::size_t flow = 4;  // "flow"
+  std::size_t flow = 0;
+  while (flow + 1 < candidates.size() && !dynamic_cast<const FlowCandidate*>(candidates[flow].get())) ++flow;
+  std::printf("\n%s, %s: mean uncovered fraction and trust by age\n\n| age | uncovered | trust |\n|---|---|---|\n",
+              seq.name.c_str(), candidates[flow]->Name().c_str());
   for (int age = 1; age <= args.max_age; ++age) {
     const AgeStats& a = stats[flow].by_age[static_cast<std::size_t>(age)];
     std::printf("| %d | %.3f | %.2f |\n", age, a.uncovered / std::max(1, a.samples), a.trust / std::max(1, a.samples));
@@ -247,6 +282,7 @@ Args Parse(int argc, char** argv) {
     else if (flag == "--labels") args.labels_dir = value;
     else if (flag == "--max-age") args.max_age = std::stoi(value);
     else if (flag == "--source-step") args.source_step = std::stoi(value);
+    else if (flag == "--candidates") args.candidates = value;
     else throw Error("unknown flag " + flag);
   }
   if (args.max_age < 1 || args.source_step < 1) throw Error("--max-age and --source-step must be >= 1");

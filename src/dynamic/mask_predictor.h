@@ -48,9 +48,15 @@
 #include <opencv2/core.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "dynamic/object_motion.h"
 #include "semantic/class_groups.h"
 
 namespace esdslam {
+
+// How the dynamic mask is carried: pixel by pixel along the flow, or each object (connected
+// component) as a whole by the motion fitted to its interior (dynamic/object_motion.h), or both
+// (union).
+enum class DynamicCarry { kPixels, kObjects, kObjectsAndPixels };
 
 struct MaskPredictorOptions {
   int flow_width_px = 320;              // width the flow is computed at (height in proportion)
@@ -63,6 +69,13 @@ struct MaskPredictorOptions {
   // Disocclusion test (see above); a non-positive abs tolerance disables it.
   double occlusion_abs_tolerance_m = 0.1;
   double occlusion_depth_sq_tolerance = 0.01;  // 1/m
+  // Disoccluded pixels take the label of a neighbour on the same surface: depth step between
+  // neighbouring flow pixels <= fill_abs_tolerance_m + fill_depth_sq_tolerance * z^2. <= 0: off.
+  double fill_abs_tolerance_m = 0.05;
+  double fill_depth_sq_tolerance = 0.02;  // 1/m
+  DynamicCarry dynamic_carry = DynamicCarry::kObjects;
+  ObjectMotionOptions objects;
+  int cleanup_radius_px = 3;            // opening + closing of the carried dynamic mask (full resolution); 0 = off
   int history_frames = 30;              // frames kept: labels of an older frame can no longer be carried
   // Dilation of the carried dynamic mask, growing with the label age (full-resolution pixels).
   double age_dilation_px_per_frame = 0.0;
@@ -116,16 +129,20 @@ class MaskPredictor {
     cv::Mat depth_m;           // CV_32F, flow resolution (nearest); empty: no depth
     cv::Mat position_in_prev;  // CV_32FC2 P_k (flow-resolution pixels of frame k-1); empty for the first frame
     cv::Mat step_factor;       // CV_32FC2 per pixel: (not disoccluded, P_k inside frame k-1) as 0/1
+    cv::Mat nearer;            // CV_8U 255: disoccluded because a surface moved in front
   };
   struct Source {
     std::int64_t id;
     cv::Mat labels;      // CV_8U, image size
     cv::Mat map;         // CV_32FC2 M_k: position in frame s, full-resolution pixels
     cv::Mat state;       // CV_32FC2 (v_k, c_k)
+    cv::Mat filled;      // CV_8U labels of disoccluded pixels from their surface's neighbours (255: none)
+    SourceObjects objects;  // of the dynamic mask of `labels`
   };
 
   FlowFrame MakeFrame(std::int64_t id, const cv::Mat& image, const cv::Mat& depth_m) const;
   void CarryOneStep(Source& source, const FlowFrame& frame) const;
+  cv::Mat CarryDynamic(const cv::Mat& per_pixel, const cv::Mat& full_map, const cv::Mat& lost) const;
 
   cv::Size image_size_;
   cv::Size flow_size_;
