@@ -14,7 +14,6 @@
 #include "camera/pinhole_camera.h"
 #include "common/geometry.h"
 #include "dynamic/mask_predictor.h"
-#include "dynamic/region_growing.h"
 #include "system/semantic_front_end.h"
 
 namespace esdslam::bench {
@@ -24,6 +23,7 @@ struct FrameData {
   cv::Mat depth_m;       // CV_32F metres
   cv::Mat labels;        // CV_8U class ids: the labels the network gives (or perfect synthetic ones)
   cv::Mat truth;         // CV_8U 255 = dynamic in the ground truth (synthetic) or in the fresh labels (real)
+  cv::Mat truth_refined; // synthetic: truth; real: the fresh labels' person mask refined as a prediction is
   Rigid3 world_from_cam; // ground truth pose
 };
 
@@ -155,39 +155,6 @@ class FlowCandidate : public Candidate {
   std::unique_ptr<MaskPredictor> predictor_;
   std::int64_t id_ = 0;
   MaskPrediction last_;
-};
-
-// Another candidate's mask re-grown on the current depth from its interior (region growing,
-// band growing with the age), without keeping the carried mask itself.
-class RegrowCandidate : public Candidate {
- public:
-  RegrowCandidate(std::unique_ptr<Candidate> inner, int band_px, double band_px_per_frame)
-      : inner_(std::move(inner)), band_px_(band_px), band_px_per_frame_(band_px_per_frame) {}
-  std::string Name() const override { return inner_->Name() + "+grow"; }
-  void Start(const FrameData& source) override {
-    inner_->Start(source);
-    age_ = 0;
-    depth_ = source.depth_m;
-  }
-  void Advance(const FrameData& frame) override {
-    inner_->Advance(frame);
-    ++age_;
-    depth_ = frame.depth_m;
-  }
-  cv::Mat Predict() override {
-    const cv::Mat carried = inner_->Predict();
-    if (age_ == 0) return carried;
-    RegionGrowingOptions options;
-    options.growth_band_px = band_px_ + static_cast<int>(band_px_per_frame_ * age_);
-    return RefineDynamicMask(carried, depth_, options);
-  }
-
- private:
-  std::unique_ptr<Candidate> inner_;
-  int band_px_;
-  double band_px_per_frame_;
-  int age_ = 0;
-  cv::Mat depth_;
 };
 
 }  // namespace esdslam::bench

@@ -9,9 +9,11 @@
 //   every frame in --labels DIR/<rgb file name> (class ids, 15 = person); the truth of frame j
 //   is the network's own fresh person labels of frame j.
 // Every S-th frame is a source. For each candidate and age it prints the mean IoU of the raw
-// carried person mask and of the refined one (region growing on frame j's depth plus the carried
-// mask's core, as SemanticFrontEnd::MaskFor does) against the truth, and the recall of the truth
-// pixels (pooled) by the refined mask. CPU time: thread CPU time of advancing one frame and
+// carried person mask against the truth, the mean IoU of the refined one (region growing on frame
+// j's depth plus the carried mask's core, as SemanticFrontEnd::MaskFor does) against the refined
+// truth (synthetic: the truth itself; real: the fresh labels refined the same way, i.e. the mask
+// every-frame labels would give), and the recall of the truth pixels (pooled over frames) by the
+// refined mask. Frames where truth and prediction are both empty are not counted. CPU time: thread CPU time of advancing one frame and
 // predicting, mean per frame (one thread: cv::setNumThreads(1)).
 #include <cstdio>
 #include <cstring>
@@ -35,8 +37,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const char* kDefaultCandidates =
-    "hold=hold;camera=camera;keypoints=keypoints;pixels=flow:carry=pixels;objects=flow:carry=objects;"
-    "both=flow:carry=both";
+    "hold=hold;camera=camera;keypoints=keypoints;flow-plain=flow:occ=0,fill=0,clean=0;flow=flow;"
+    "flow+dil=flow:dil=0.5";
 
 struct Args {
   std::string synth_dir, real_dir, labels_dir;
@@ -88,6 +90,16 @@ cv::Mat ReadImage(const std::string& path, int flags) {
   return image;
 }
 
+// As SemanticFrontEnd::MaskFor (without its final safety dilation): region growing from the
+// mask on the current depth, plus the mask's interior (eroded by 3 px).
+cv::Mat Refine(const cv::Mat& mask, const cv::Mat& depth_m) {
+  cv::Mat refined = RefineDynamicMask(mask, depth_m, RegionGrowingOptions{});
+  cv::Mat core;
+  cv::erode(mask, core, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(7, 7)));
+  refined.setTo(255, core);
+  return refined;
+}
+
 // Frames loaded on demand and dropped once no source needs them.
 class FrameCache {
  public:
@@ -104,6 +116,7 @@ class FrameCache {
     frame.truth = seq_.truth_dir.empty() ? PersonMask(frame.labels)
                                          : ReadImage(seq_.truth_dir + "/" + name, cv::IMREAD_UNCHANGED) != 0;
     frame.world_from_cam = seq_.poses[static_cast<std::size_t>(i)];
+    frame.truth_refined = seq_.truth_dir.empty() ? Refine(frame.truth, frame.depth_m) : frame.truth;
     return frames_.emplace(i, std::move(frame)).first->second;
   }
   void DropBefore(int i) { frames_.erase(frames_.begin(), frames_.lower_bound(i)); }
@@ -133,16 +146,6 @@ double IoU(const cv::Mat& a, const cv::Mat& b, bool* any) {
   return uni == 0 ? 1.0 : cv::countNonZero(a & b) / static_cast<double>(uni);
 }
 
-// As SemanticFrontEnd::MaskFor (without its final safety dilation): region growing from the
-// mask on the current depth, plus the mask's interior (eroded by 3 px).
-cv::Mat Refine(const cv::Mat& mask, const cv::Mat& depth_m) {
-  cv::Mat refined = RefineDynamicMask(mask, depth_m, RegionGrowingOptions{});
-  cv::Mat core;
-  cv::erode(mask, core, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(7, 7)));
-  refined.setTo(255, core);
-  return refined;
-}
-
 void Score(const cv::Mat& predicted, const FrameData& frame, AgeStats& stats) {
   bool any = false;
   const double iou_raw = IoU(predicted != 0, frame.truth, &any);
@@ -150,7 +153,7 @@ void Score(const cv::Mat& predicted, const FrameData& frame, AgeStats& stats) {
   const cv::Mat refined = Refine(predicted, frame.depth_m);
   bool unused = false;
   stats.iou_raw += iou_raw;
-  stats.iou_refined += IoU(refined, frame.truth, &unused);
+  stats.iou_refined += IoU(refined, frame.truth_refined, &unused);
   ++stats.frames;
   stats.truth_px += cv::countNonZero(frame.truth);
   stats.covered_px += cv::countNonZero(frame.truth & refined);
@@ -159,8 +162,9 @@ void Score(const cv::Mat& predicted, const FrameData& frame, AgeStats& stats) {
 // A candidate from "NAME=KIND[:KEY=VALUE,...]": KIND hold | camera | keypoints | flow; flow keys
 // (MaskPredictorOptions): w flow_width_px, fs flow_finest_scale, ps flow_patch_size, st
 // flow_patch_stride, gd flow_gradient_iterations, vr flow_variational_iterations, occ
-// occlusion_abs_tolerance_m, fill fill_abs_tolerance_m, clean cleanup_radius_px, carry pixels|objects|both, dil age_dilation_px_per_frame,
-// erode objects.interior_erosion_px.
+// disocclusion.occlusion_abs_tolerance_m, fill disocclusion.fill_abs_tolerance_m, mem
+// disocclusion.depth_memory_frames, clean
+// cleanup_radius_px, dil age_dilation_px_per_frame.
 std::unique_ptr<Candidate> MakeCandidate(const std::string& spec, const Sequence& seq, cv::Size size) {
   const std::size_t eq = spec.find('=');
   if (eq == std::string::npos) throw Error("candidate '" + spec + "': expected NAME=KIND[:KEY=VALUE,...]");
@@ -183,14 +187,11 @@ std::unique_ptr<Candidate> MakeCandidate(const std::string& spec, const Sequence
     else if (key == "st") o.flow_patch_stride = std::stoi(value);
     else if (key == "gd") o.flow_gradient_iterations = std::stoi(value);
     else if (key == "vr") o.flow_variational_iterations = std::stoi(value);
-    else if (key == "occ") o.occlusion_abs_tolerance_m = std::stod(value);
-    else if (key == "fill") o.fill_abs_tolerance_m = std::stod(value);
+    else if (key == "occ") o.disocclusion.occlusion_abs_tolerance_m = std::stod(value);
+    else if (key == "fill") o.disocclusion.fill_abs_tolerance_m = std::stod(value);
+    else if (key == "mem") o.disocclusion.depth_memory_frames = std::stoi(value);
     else if (key == "clean") o.cleanup_radius_px = std::stoi(value);
     else if (key == "dil") o.age_dilation_px_per_frame = std::stod(value);
-    else if (key == "erode") o.objects.interior_erosion_px = std::stoi(value);
-    else if (key == "carry" && value == "pixels") o.dynamic_carry = DynamicCarry::kPixels;
-    else if (key == "carry" && value == "objects") o.dynamic_carry = DynamicCarry::kObjects;
-    else if (key == "carry" && value == "both") o.dynamic_carry = DynamicCarry::kObjectsAndPixels;
     else throw Error("candidate '" + spec + "': unknown key or value " + item);
   }
   return std::make_unique<FlowCandidate>(name, size, o);
