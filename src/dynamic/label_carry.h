@@ -38,7 +38,7 @@ struct DisocclusionOptions {
   // spans 2 image pixels: 0.05 m is a surface at 3 m slanted about 70 degrees).
   double fill_abs_tolerance_m = 0.05;          // <= 0: no fill
   double fill_depth_sq_tolerance = 0.02;       // 1/m
-  int depth_memory_frames = 4;                 // see above; 0 = no memory
+  int depth_memory_frames = 8;                 // see above (a path can run inside the moving band for several frames); 0 = no memory
 
   // Throws Error naming the first value out of its bounds.
   void Check() const;
