@@ -14,7 +14,7 @@
 #include "camera/pinhole_camera.h"
 #include "common/geometry.h"
 #include "dynamic/mask_predictor.h"
-#include "system/semantic_front_end.h"
+#include "dynamic/semantic_front_end.h"
 
 namespace esdslam::bench {
 

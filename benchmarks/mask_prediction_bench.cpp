@@ -2,6 +2,7 @@
 // of frame s to frame s + age, for age 1..max_age, and what it costs per frame.
 //
 //   mask_prediction_bench [--synth DIR] [--real DIR --labels DIR] [--max-age N] [--source-step S]
+//                         [--candidates "NAME=KIND[:KEY=VALUE,...];..."]   (see MakeCandidate)
 //
 // --synth: a sequence written by `esdslam synth --preset dynamic --out DIR`; the labels carried
 //   are its perfect VOC labels (labels/), the truth its mover masks (masks/).
@@ -13,8 +14,9 @@
 // j's depth plus the carried mask's core, as SemanticFrontEnd::MaskFor does) against the refined
 // truth (synthetic: the truth itself; real: the fresh labels refined the same way, i.e. the mask
 // every-frame labels would give), and the recall of the truth pixels (pooled over frames) by the
-// refined mask. Frames where truth and prediction are both empty are not counted. CPU time: thread CPU time of advancing one frame and
-// predicting, mean per frame (one thread: cv::setNumThreads(1)).
+// refined mask. Frames where truth and prediction are both empty are not counted. CPU time: thread
+// CPU time of advancing one frame and predicting, mean per frame (one OpenCV thread); then the CPU
+// time of labels that arrive late, and the predictor's uncovered fraction and trust by age.
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -37,8 +39,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const char* kDefaultCandidates =
-    "hold=hold;camera=camera;keypoints=keypoints;flow-plain=flow:occ=0,fill=0,clean=0;flow=flow;"
-    "flow+dil=flow:dil=0.5";
+    "hold=hold;camera=camera;keypoints=keypoints;flow-plain=flow:occ=0,fill=0,clean=0;flow-nomem=flow:mem=0;"
+    "flow-nofill=flow:fill=0;flow=flow;flow+dil=flow:dil=0.5";
 
 struct Args {
   std::string synth_dir, real_dir, labels_dir;
@@ -207,10 +209,33 @@ std::vector<std::unique_ptr<Candidate>> MakeCandidates(const std::string& specs,
   return out;
 }
 
-void Evaluate(const Sequence& seq, const Args& args) {
-  FrameCache cache(seq);
-  const cv::Size size = cache.Get(0).grey.size();
-  auto candidates = MakeCandidates(args.candidates, seq, size);
+// Thread CPU time of AddLabels for labels that arrive `age` frames late (carried through the
+// stored flows at once), default options, mean over the sequence.
+void PrintLateLabelCost(const Sequence& seq, FrameCache& cache) {
+  std::printf("\n%s, CPU time of late labels (default options): AddLabels of frame j - age at frame j\n\n"
+              "| age | ms |\n|---|---|\n", seq.name.c_str());
+  const int last = static_cast<int>(seq.frames.size()) - 1;
+  for (int age : {2, 5, 10, 20}) {
+    if (age > last) continue;
+    double cpu_ms = 0;
+    int runs = 0;
+    for (int j = age; j <= last; j += std::max(1, last / 10)) {
+      cache.DropBefore(j - age);
+      MaskPredictor predictor(cache.Get(j).grey.size());
+      for (int k = j - age; k <= j; ++k) predictor.AddFrame(k, cache.Get(k).grey, cache.Get(k).depth_m);
+      ThreadCpuStopwatch cpu;
+      predictor.AddLabels(j - age, cache.Get(j - age).labels);
+      cpu_ms += cpu.ElapsedMs();
+      ++runs;
+    }
+    std::printf("| %d | %.2f |\n", age, cpu_ms / std::max(1, runs));
+  }
+}
+
+using Candidates = std::vector<std::unique_ptr<Candidate>>;
+
+// Every source frame's labels carried by every candidate to ages 1..max_age.
+std::vector<CandidateStats> Measure(const Sequence& seq, const Args& args, FrameCache& cache, Candidates& candidates) {
   std::vector<CandidateStats> stats(candidates.size());
   for (auto& s : stats) s.by_age.resize(static_cast<std::size_t>(args.max_age) + 1);
   const int last_source = static_cast<int>(seq.frames.size()) - 1 - args.max_age;
@@ -239,6 +264,11 @@ void Evaluate(const Sequence& seq, const Args& args) {
     std::fprintf(stderr, "\r%s: source %d/%d", seq.name.c_str(), source, last_source);
   }
   std::fprintf(stderr, "\n");
+  return stats;
+}
+
+void PrintAccuracy(const Sequence& seq, const Args& args, const Candidates& candidates,
+                   const std::vector<CandidateStats>& stats) {
   const char* titles[] = {"IoU of the raw carried mask", "IoU after refinement (region growing + core)",
                           "recall of the truth pixels after refinement"};
   for (int table = 0; table < 3; ++table) {
@@ -262,14 +292,31 @@ void Evaluate(const Sequence& seq, const Args& args) {
               seq.name.c_str());
   for (std::size_t c = 0; c < candidates.size(); ++c)
     std::printf("| %s | %.2f |\n", candidates[c]->Name().c_str(), stats[c].cpu_ms / std::max(1, stats[c].steps));
+}
+
+// The trust of the candidate named "flow" (the default options), else of the first flow candidate.
+void PrintTrust(const Sequence& seq, const Args& args, const Candidates& candidates,
+                const std::vector<CandidateStats>& stats) {
   std::size_t flow = 0;
   while (flow + 1 < candidates.size() && !dynamic_cast<const FlowCandidate*>(candidates[flow].get())) ++flow;
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    if (candidates[c]->Name() == "flow") flow = c;
+  }
   std::printf("\n%s, %s: mean uncovered fraction and trust by age\n\n| age | uncovered | trust |\n|---|---|---|\n",
               seq.name.c_str(), candidates[flow]->Name().c_str());
   for (int age = 1; age <= args.max_age; ++age) {
     const AgeStats& a = stats[flow].by_age[static_cast<std::size_t>(age)];
     std::printf("| %d | %.3f | %.2f |\n", age, a.uncovered / std::max(1, a.samples), a.trust / std::max(1, a.samples));
   }
+}
+
+void Evaluate(const Sequence& seq, const Args& args) {
+  FrameCache cache(seq);
+  Candidates candidates = MakeCandidates(args.candidates, seq, cache.Get(0).grey.size());
+  const std::vector<CandidateStats> stats = Measure(seq, args, cache, candidates);
+  PrintAccuracy(seq, args, candidates, stats);
+  PrintLateLabelCost(seq, cache);  // after the measurement: it reloads frames
+  PrintTrust(seq, args, candidates, stats);
 }
 
 Args Parse(int argc, char** argv) {
