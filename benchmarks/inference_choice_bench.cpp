@@ -1,6 +1,6 @@
 // Cheaper inference (issue 12, item 4): time and accuracy of each network configuration.
 //
-//   inference_choice_bench [--model FILE:WxH]... [--crop FILE:WxH]... [--threads 1,2]
+//   inference_choice_bench [--model FILE:WxH]... [--crop FILE:WxH]... [--int8 FILE:WxH]... [--threads 1,2]
 //                          [--sequence DIR] [--labels DIR] [--step N] [--crop-lag N] [--crop-margin PX]
 //
 // For every model and OpenCV thread count: CPU time of the process per Segment() call (resize,
@@ -15,6 +15,11 @@
 // labels in --labels DIR, e.g. /work/cache/labels/<seq>, as a stand-in for the predicted people),
 // grown by --crop-margin pixels and to the model's aspect ratio; the rest of the frame is labelled
 // background; frames without people there run on the whole frame. The mean crop area is printed.
+// --int8: the model quantised by OpenCV DNN itself (cv::dnn::Net::quantize: int8 weights per
+// channel and activations calibrated on one frame, the middle of the sequence: the ESPNetv2
+// graph's reshapes are fixed to batch 1, so the calibration batch is one frame); CPU time of the
+// network alone (one OpenCV thread) against the float network, and agreement of the argmax labels
+// with the float network at network resolution on the frames above.
 // Defaults: the three committed models, threads 1 and 2, ../shared/data/bonn_crowd_dev, step 10.
 #include <algorithm>
 #include <cstdio>
@@ -24,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/dnn.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -58,7 +64,7 @@ ModelSpec ParseModel(const std::string& spec) {
 }
 
 struct Args {
-  std::vector<ModelSpec> models, crops;
+  std::vector<ModelSpec> models, crops, int8;
   std::vector<int> threads{1, 2};
   std::string sequence = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/bonn_crowd_dev";
   std::string labels = "/work/cache/labels/bonn_crowd_dev";
@@ -167,6 +173,59 @@ std::vector<Frame> LoadFrames(const Args& args) {
   return frames;
 }
 
+// The network input of OnnxSegmenter (bilinear resize, RGB, /255, ImageNet mean and std).
+cv::Mat NetworkInput(const cv::Mat& bgr, const ModelSpec& model) {
+  cv::Mat rgb;
+  cv::resize(bgr, rgb, cv::Size(model.width, model.height), 0, 0, cv::INTER_LINEAR);
+  cv::cvtColor(rgb, rgb, cv::COLOR_BGR2RGB);
+  rgb.convertTo(rgb, CV_32F, 1.0 / 255.0);
+  rgb -= cv::Scalar(0.485, 0.456, 0.406);
+  cv::divide(rgb, cv::Scalar(0.229, 0.224, 0.225), rgb);
+  return cv::dnn::blobFromImage(rgb);
+}
+
+// Argmax over the class axis of a 1 x C x H x W score blob.
+cv::Mat Argmax(const cv::Mat& scores) {
+  const int classes = scores.size[1], h = scores.size[2], w = scores.size[3];
+  cv::Mat labels(h, w, CV_8U), best(h, w, CV_32F, cv::Scalar(-1e30));
+  for (int c = 0; c < classes; ++c) {
+    const cv::Mat plane(h, w, CV_32F, const_cast<float*>(scores.ptr<float>(0, c)));
+    const cv::Mat better = plane > best;
+    plane.copyTo(best, better);
+    labels.setTo(c, better);
+  }
+  return labels;
+}
+
+void ReportInt8(const ModelSpec& model, const std::vector<Frame>& frames) {
+  cv::setNumThreads(1);
+  cv::dnn::Net net = cv::dnn::readNetFromONNX(model.path);
+  cv::dnn::Net quantised = net.quantize(std::vector<cv::Mat>{NetworkInput(frames[frames.size() / 2].bgr, model)}, CV_32F, CV_32F);
+  double float_ms = 0, int8_ms = 0, agree = 0, person_iou = 0;
+  int person_frames = 0;
+  for (const Frame& frame : frames) {
+    const cv::Mat input = NetworkInput(frame.bgr, model);
+    double cpu0 = ProcessCpuMs();
+    net.setInput(input);
+    const cv::Mat reference = Argmax(net.forward());
+    float_ms += ProcessCpuMs() - cpu0;
+    cpu0 = ProcessCpuMs();
+    quantised.setInput(input);
+    const cv::Mat labels = Argmax(quantised.forward());
+    int8_ms += ProcessCpuMs() - cpu0;
+    agree += cv::countNonZero(labels == reference) / static_cast<double>(labels.total());
+    const int uni = cv::countNonZero((labels == kPerson) | (reference == kPerson));
+    if (uni > 0) {
+      person_iou += cv::countNonZero((labels == kPerson) & (reference == kPerson)) / static_cast<double>(uni);
+      ++person_frames;
+    }
+  }
+  const double n = static_cast<double>(frames.size());
+  std::printf("| %s | %dx%d | %.1f | %.1f | %.4f | %.3f |\n", model.Name().c_str(), model.width, model.height,
+              float_ms / n, int8_ms / n, agree / n, person_iou / std::max(1, person_frames));
+  std::fflush(stdout);
+}
+
 void Run(const Args& args) {
   const std::vector<Frame> frames = LoadFrames(args);
   const ModelSpec reference_model{std::string(ESDSLAM_SOURCE_DIR) + "/models/espnetv2_s2.0_voc_384x384.onnx", 384, 384};
@@ -194,6 +253,10 @@ void Run(const Args& args) {
   };
   for (const ModelSpec& model : args.models) report(model, false);
   for (const ModelSpec& model : args.crops) report(model, true);
+  if (args.int8.empty()) return;
+  std::printf("\nint8 (cv::dnn::Net::quantize) against the float network, one thread, network only\n\n"
+              "| model | input | float CPU ms | int8 CPU ms | labels agree | person IoU |\n|---|---|---|---|---|---|\n");
+  for (const ModelSpec& model : args.int8) ReportInt8(model, frames);
 }
 
 Args Parse(int argc, char** argv) {
@@ -204,6 +267,7 @@ Args Parse(int argc, char** argv) {
     const std::string value = argv[++i];
     if (flag == "--model") args.models.push_back(ParseModel(value));
     else if (flag == "--crop") args.crops.push_back(ParseModel(value));
+    else if (flag == "--int8") args.int8.push_back(ParseModel(value));
     else if (flag == "--sequence") args.sequence = value;
     else if (flag == "--labels") args.labels = value;
     else if (flag == "--step") args.step = std::stoi(value);
@@ -217,7 +281,7 @@ Args Parse(int argc, char** argv) {
       throw Error("unknown flag " + flag);
     }
   }
-  if (args.models.empty() && args.crops.empty()) {
+  if (args.models.empty() && args.crops.empty() && args.int8.empty()) {
     const std::string dir = std::string(ESDSLAM_SOURCE_DIR) + "/models/";
     args.models = {{dir + "espnetv2_s2.0_voc_256x192.onnx", 256, 192},
                    {dir + "espnetv2_s2.0_voc_384x288.onnx", 384, 288},
