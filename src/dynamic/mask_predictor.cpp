@@ -115,6 +115,7 @@ void MaskPredictor::AddFrame(std::int64_t id, const cv::Mat& image, const cv::Ma
     flow_->calc(frame.grey, frames_.back().grey, backward_flow);
     frame.step = MakeFlowStep(backward_flow, frame.depth_m, frames_.back().remembered, options_.disocclusion,
                               &frame.remembered);
+    frames_.back().remembered = RememberedDepth{};  // only the newest frame's is needed
     if (source_) CarryOneStep(frame.step, frame.depth_m, source_->labels, options_.disocclusion, source_->carried);
   }
   frames_.push_back(std::move(frame));

@@ -15,10 +15,11 @@
 //
 // The carried labels are computed at flow resolution and upsampled (nearest) to the image size;
 // the dynamic mask is upsampled from the source mask interpolated at the carried positions
-// (bilinear, threshold 0.5), so its boundary is finer than a flow pixel. It is cleaned (opening then closing with a
-// (2 cleanup_radius_px + 1) square: removes specks and thin lines picked up along boundaries,
-// which region growing would otherwise grow into the background) and dilated by a radius that
-// grows with the label age, min(max_age_dilation_px, floor(age_dilation_px_per_frame * age)).
+// (bilinear, threshold 0.5), so its boundary is finer than a flow pixel. It is cleaned (opening
+// then closing with a (2 cleanup_radius_px + 1) square: removes specks and thin lines picked up
+// along boundaries, which region growing would otherwise grow into the background) and dilated
+// by a radius that grows with the label age, min(max_age_dilation_px,
+// floor(age_dilation_px_per_frame * age)).
 // It then goes through the same refinement as a fresh mask (region growing on the current depth,
 // dynamic/region_growing.h).
 //
@@ -33,8 +34,10 @@
 // fixed frame schedule gets the same masks on every run. DIS runs under OpenCV's parallel_for_ on
 // independent stripes; its result does not depend on the thread count (tested).
 //
-// Not thread-safe: one caller (the tracking thread). Label value 255 is reserved (kNoLabel).
-// Memory: about 0.6 MB per kept frame at a 320-pixel-wide flow, plus the labels in use.
+// Not thread-safe: one owner thread calls everything. Label value 255 is reserved (kNoLabel).
+// Memory: about 1.2 MB per kept frame at a 320-pixel-wide flow (36 MB for the default 30), plus
+// the labels in use. Predict() computes the masks anew on every call (about 1 ms): call it once
+// per frame.
 
 #include <cstdint>
 #include <deque>
@@ -111,7 +114,7 @@ class MaskPredictor {
     std::int64_t id;
     cv::Mat grey;     // CV_8U, flow resolution
     cv::Mat depth_m;  // CV_32F, flow resolution (nearest); empty: no depth
-    RememberedDepth remembered;  // for the next frame's disocclusion test
+    RememberedDepth remembered;  // for the next frame's disocclusion test (newest frame only)
     FlowStep step;    // from the previous added frame; empty for the first
   };
   struct Source {
