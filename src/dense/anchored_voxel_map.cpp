@@ -164,6 +164,8 @@ void AnchoredVoxelMap::Reinsert(std::uint32_t slot, std::uint32_t index) {
   const float color_x128[3] = {static_cast<float>(point.color_x128[0]), static_cast<float>(point.color_x128[1]),
                                static_cast<float>(point.color_x128[2])};
   Accumulate(it->second, p_world, color_x128, point.weight);
+  std::uint8_t& kept_evidence = anchors_[it->second.anchor].points[it->second.index].evidence;
+  kept_evidence = std::max(kept_evidence, point.evidence);
   point.weight = 0;
   ++anchor.holes;
   --live_points_;
@@ -184,6 +186,27 @@ void AnchoredVoxelMap::Compact(std::uint32_t slot) {
   }
   anchor.points.swap(kept);
   anchor.holes = 0;
+}
+
+std::size_t AnchoredVoxelMap::CarveFreeSpace(const FreeSpaceView& view, int max_evidence) {
+  std::size_t removed = 0;
+  for (std::uint32_t slot = 0; slot < anchors_.size(); ++slot) {
+    Anchor& anchor = anchors_[slot];
+    for (std::uint32_t i = 0; i < anchor.points.size(); ++i) {
+      StoredPoint& point = anchor.points[i];
+      if (point.weight <= 0) continue;
+      if (UpdateEvidence(view.Classify(WorldPosition(anchor, point)), max_evidence, &point.evidence)) continue;
+      const auto it = index_.find(point.key);
+      if (it != index_.end() && SameRef(it->second.anchor, it->second.index, slot, i)) index_.erase(it);
+      point.weight = 0;
+      ++anchor.holes;
+      --live_points_;
+      ++removed;
+    }
+    if (2 * anchor.holes > anchor.points.size()) Compact(slot);
+  }
+  carved_points_ += removed;
+  return removed;
 }
 
 PointCloud AnchoredVoxelMap::Extract(const KeyframePoses& poses) const {

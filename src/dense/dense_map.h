@@ -46,6 +46,7 @@ struct DenseMapStats {
   std::size_t ray_bytes = 0;       // every keyframe's KeyframeRays
   long reindexed_anchors = 0;      // keyframes re-indexed after pose changes, summed over the run
   std::size_t reindexed_points = 0;  // points those re-indexings moved
+  std::size_t carved_points = 0;     // points removed by free-space evidence (dense/free_space.h)
 };
 
 class DenseMap {
@@ -73,6 +74,7 @@ class DenseMap {
 
   DenseMapStats stats() const;
   const DenseOptions& options() const { return options_; }
+  const PinholeCamera& camera() const { return backprojector_.camera(); }
 
  private:
   struct KeyframeRecord {

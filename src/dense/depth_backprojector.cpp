@@ -44,6 +44,28 @@ cv::Mat DepthBackprojector::ExclusionMask(const cv::Mat& dynamic_mask, cv::Size 
   return dilated;
 }
 
+cv::Mat DepthBackprojector::DepthEdges(const cv::Mat& depth_m) const {
+  if (options_.edge_filter_px <= 0) return cv::Mat::zeros(depth_m.size(), CV_8U);
+  cv::Mat valid = depth_m > 0;  // NaN compares false
+  cv::Mat depth_or_zero = cv::Mat::zeros(depth_m.size(), CV_32F), depth_or_far;
+  depth_m.copyTo(depth_or_zero, valid);
+  depth_or_far = depth_or_zero.clone();
+  depth_or_far.setTo(1e6f, ~valid);
+  const int k = 2 * options_.edge_filter_px + 1;
+  const cv::Mat window = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k));
+  cv::Mat nearest, farthest;
+  cv::erode(depth_or_zero, nearest, window);  // 0 where any neighbour is invalid
+  cv::dilate(depth_or_far, farthest, window);  // far where any neighbour is invalid
+  const float ratio = static_cast<float>(options_.edge_jump_ratio);
+  cv::Mat edges(depth_m.size(), CV_8U);
+  for (int v = 0; v < depth_m.rows; ++v)
+    for (int u = 0; u < depth_m.cols; ++u) {
+      const float z = depth_or_zero.at<float>(v, u);
+      edges.at<std::uint8_t>(v, u) = z > 0 && (farthest.at<float>(v, u) - z > ratio * z || z - nearest.at<float>(v, u) > ratio * z);
+    }
+  return edges;
+}
+
 KeyframeObservation DepthBackprojector::Observe(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& dynamic_mask) const {
   if (depth_m.type() != CV_32F || bgr.type() != CV_8UC3 || depth_m.size() != bgr.size())
     throw Error("dense: expected CV_8UC3 colour and CV_32F depth of the same size");
@@ -51,7 +73,7 @@ KeyframeObservation DepthBackprojector::Observe(const cv::Mat& bgr, const cv::Ma
     throw Error(fmt::format("dense: image is {}x{} but the camera is {}x{}", depth_m.cols, depth_m.rows, ray_x_.cols, ray_x_.rows));
   const cv::Mat excluded = ExclusionMask(dynamic_mask, depth_m.size());
   KeyframeObservation observation;
-  observation.points_cam = BackprojectPixels(bgr, depth_m, excluded);
+  observation.points_cam = BackprojectPixels(bgr, depth_m, excluded | DepthEdges(depth_m));
   observation.rays = SampleRays(depth_m, excluded);
   return observation;
 }

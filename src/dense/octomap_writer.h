@@ -17,6 +17,7 @@ struct OctomapStats {
   std::size_t occupied_leaves = 0;
   std::size_t free_leaves = 0;
   std::size_t rays = 0;
+  std::size_t carved_cells = 0;  // occupied cells set free by later keyframes' free-space evidence
 };
 
 // Builds the tree from every keyframe of `map` at `poses` (resolved as DenseMap::Resolve does)
