@@ -33,6 +33,10 @@ void PrintStats(const char* what, const GhostStats& stats) {
   std::printf("%s_count %zu\n%s_frames %zu\n%s_projections %zu\n%s_seen_through %zu\n%s_ghost_fraction %.5f\n%s_persistent_ghosts %zu\n",
               what, stats.points, what, stats.frames, what, stats.projections, what, stats.seen_through, what, stats.fraction(),
               what, stats.persistent_ghosts);
+  for (std::size_t b = 0; b < stats.residual_count_by_range.size(); ++b)
+    if (stats.residual_count_by_range[b] > 0)
+      std::printf("%s_residual_m %.1f-%.1f %.4f (%zu)\n", what, b * GhostStats::kRangeBin, (b + 1) * GhostStats::kRangeBin,
+                  stats.residual_sum_by_range[b] / stats.residual_count_by_range[b], stats.residual_count_by_range[b]);
 }
 
 void WriteGhosts(const std::string& dir, const GhostMeasure& measure, const PointCloud& cloud, int persistent,

@@ -33,6 +33,15 @@ void GhostMeasure::AddFrame(const Rigid3& world_from_cam, const cv::Mat& depth_m
     const float measured = depth_m.at<float>(static_cast<int>(v), static_cast<int>(u));
     if (!std::isfinite(measured) || !(measured > 0)) continue;
     ++projections_;
+    if (std::abs(measured - p.z()) <= margin) {
+      const auto bin = static_cast<std::size_t>(measured / GhostStats::kRangeBin);
+      if (bin >= residual_sum_.size()) {
+        residual_sum_.resize(bin + 1, 0.0);
+        residual_count_.resize(bin + 1, 0);
+      }
+      residual_sum_[bin] += measured - p.z();
+      ++residual_count_[bin];
+    }
     if (measured > p.z() + margin) {
       ++seen_through_;
       if (counts_[i] < std::numeric_limits<std::uint16_t>::max()) ++counts_[i];
@@ -47,6 +56,8 @@ GhostStats GhostMeasure::stats() const {
   stats.frames = frames_;
   stats.projections = projections_;
   stats.seen_through = seen_through_;
+  stats.residual_sum_by_range = residual_sum_;
+  stats.residual_count_by_range = residual_count_;
   stats.persistent_ghosts = static_cast<std::size_t>(std::count_if(
       counts_.begin(), counts_.end(), [&](std::uint16_t n) { return n >= options_.persistent_frames; }));
   return stats;

@@ -49,6 +49,12 @@ struct GhostStats {
   std::size_t seen_through = 0;      // of which the frame saw beyond the point by more than the margin
   std::size_t persistent_ghosts = 0; // points seen through by >= persistent_frames frames
   double fraction() const { return projections > 0 ? static_cast<double>(seen_through) / projections : 0.0; }
+  // Depth consistency by range: for projections within the margin, the mean of (measured depth -
+  // point depth) in bins of kRangeBin metres of measured depth (bin b = [b, b+1) * kRangeBin), a
+  // figure of the sensor's depth bias at range against the map (built mostly from nearer views).
+  static constexpr double kRangeBin = 0.5;
+  std::vector<double> residual_sum_by_range;
+  std::vector<std::size_t> residual_count_by_range;
 };
 
 class GhostMeasure {
@@ -70,6 +76,8 @@ class GhostMeasure {
   std::vector<Eigen::Vector3f> points_;
   std::vector<std::uint16_t> counts_;
   std::size_t frames_ = 0, projections_ = 0, seen_through_ = 0;
+  std::vector<double> residual_sum_;
+  std::vector<std::size_t> residual_count_;
 };
 
 // Feeds every options.frame_step-th pose of `trajectory` (with its nearest sequence frame within
