@@ -12,7 +12,12 @@
 // sigma(z) = depth_noise_at_1m * z^2 the sensor's depth noise: depth noise scatters a surface
 // along the ray, and without this the noise tails would fill a band of voxels around every
 // surface as observations accumulate. Otherwise it starts a new map point anchored to the keyframe.
-// A band still grows from readings beyond the radius, but far more slowly (tests/dense).
+// A band still grows from readings beyond the radius, but far more slowly (tests/dense). Readings
+// are averaged with weight 1 / max(z, 0.5 m)^4, their inverse depth variance: a surface seen from
+// 1 m and from 4 m lies where the near view put it.
+//
+// CarveFreeSpace() removes points that later views see through (dense/free_space.h); each point
+// keeps its evidence count for that.
 //
 // The voxel index is valid for the anchor poses it was built with. UpdatePoses() re-indexes the
 // points of every anchor whose pose moved a point by more than a threshold (default a quarter

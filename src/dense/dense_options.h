@@ -34,7 +34,7 @@ struct DenseOptions {
   double free_space_sigmas = 3.0;       // depth-noise sigmas
   double free_space_min_margin = 0.03;  // m
   int free_space_window_px = 2;         // carve only where the whole (2n+1)^2 neighbourhood sees past
-  int free_space_max_evidence = 5;      // keyframes
+  int free_space_max_evidence = 2;      // keyframes
 
   void Check() const {
     if (!(voxel_size > 0)) throw Error("Dense.voxelSize must be positive");
