@@ -11,10 +11,11 @@ struct DenseOptions {
   double max_depth = 4.0;             // m: farther readings are ignored (RGB-D noise grows with z^2)
   int pixel_stride = 2;               // back-project every n-th pixel in u and v
   int mask_dilation_px = 7;           // dynamic masks are grown by this many pixels before use
-  // Depth edges: a pixel with a neighbour within edgeFilter px (or an invalid one) whose depth
-  // differs by more than edgeJumpRatio * z is left out of the dense cloud. RGB-D sensors smear
-  // depth across object silhouettes (mixed pixels, foreground fattening), which another view
-  // then sees through; the same surface seen from elsewhere is away from a silhouette.
+  // Depth edges: a pixel with a neighbour within edgeFilter px whose depth is farther by more
+  // than edgeJumpRatio * z (the foreground side of a silhouette, and mixed pixels between) is
+  // left out of the dense cloud and marks no OctoMap cell occupied. RGB-D sensors smear depth
+  // across silhouettes (mixed pixels, foreground fattening), which another view then sees
+  // through; the same surface seen from elsewhere is away from a silhouette.
   int edge_filter_px = 2;             // 0 = off
   double edge_jump_ratio = 0.05;
   // m: depth noise sigma at 1 m, sigma(z) = depthNoiseAt1m * z^2 (Kinect v1 / Xtion: about 1.4e-3,

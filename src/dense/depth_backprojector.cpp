@@ -46,23 +46,20 @@ cv::Mat DepthBackprojector::ExclusionMask(const cv::Mat& dynamic_mask, cv::Size 
 
 cv::Mat DepthBackprojector::DepthEdges(const cv::Mat& depth_m) const {
   if (options_.edge_filter_px <= 0) return cv::Mat::zeros(depth_m.size(), CV_8U);
-  cv::Mat valid = depth_m > 0;  // NaN compares false
-  cv::Mat depth_or_zero = cv::Mat::zeros(depth_m.size(), CV_32F), depth_or_far;
-  depth_m.copyTo(depth_or_zero, valid);
-  depth_or_far = depth_or_zero.clone();
-  depth_or_far.setTo(1e6f, ~valid);
+  // Farthest valid depth in the window (invalid pixels count as 0: the shadows that structured
+  // light casts beside silhouettes say nothing about the pixel).
+  cv::Mat depth_or_zero = cv::Mat::zeros(depth_m.size(), CV_32F), farthest;
+  depth_m.copyTo(depth_or_zero, depth_m > 0);  // NaN compares false
   const int k = 2 * options_.edge_filter_px + 1;
-  const cv::Mat window = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k));
-  cv::Mat nearest, farthest;
-  cv::erode(depth_or_zero, nearest, window);  // 0 where any neighbour is invalid
-  cv::dilate(depth_or_far, farthest, window);  // far where any neighbour is invalid
+  cv::dilate(depth_or_zero, farthest, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
   const float ratio = static_cast<float>(options_.edge_jump_ratio);
   cv::Mat edges(depth_m.size(), CV_8U);
-  for (int v = 0; v < depth_m.rows; ++v)
-    for (int u = 0; u < depth_m.cols; ++u) {
-      const float z = depth_or_zero.at<float>(v, u);
-      edges.at<std::uint8_t>(v, u) = z > 0 && (farthest.at<float>(v, u) - z > ratio * z || z - nearest.at<float>(v, u) > ratio * z);
-    }
+  for (int v = 0; v < depth_m.rows; ++v) {
+    const float* z = depth_or_zero.ptr<float>(v);
+    const float* far = farthest.ptr<float>(v);
+    std::uint8_t* edge = edges.ptr<std::uint8_t>(v);
+    for (int u = 0; u < depth_m.cols; ++u) edge[u] = z[u] > 0 && far[u] - z[u] > ratio * z[u];
+  }
   return edges;
 }
 

@@ -104,14 +104,19 @@ TEST(AnchoredVoxelMap, FreeSpaceRemovesWhatLaterViewsSeeThroughAndKeepsTheRest) 
   EXPECT_EQ(map.num_carved_points(), removed);
 }
 
-TEST(DepthBackprojector, DepthEdgesMarkBothSidesOfASilhouetteOnly) {
+TEST(DepthBackprojector, DepthEdgesMarkTheNearSideOfASilhouetteOnly) {
   DenseOptions options;  // 2 px, 5 % of the depth
   const DepthBackprojector backprojector(TestCamera(), options);
   const cv::Mat edges = backprojector.DepthEdges(StepDepth(1.0f, 3.0f));
   EXPECT_EQ(edges.at<std::uint8_t>(100, 317), 0);
   EXPECT_EQ(edges.at<std::uint8_t>(100, 318), 1);
-  EXPECT_EQ(edges.at<std::uint8_t>(100, 321), 1);
-  EXPECT_EQ(edges.at<std::uint8_t>(100, 322), 0);
+  EXPECT_EQ(edges.at<std::uint8_t>(100, 319), 1);
+  EXPECT_EQ(edges.at<std::uint8_t>(100, 320), 0);  // the background beside it stays
+  cv::Mat shadow = StepDepth(1.0f, 3.0f);
+  shadow.colRange(320, 330).setTo(0.0f);  // an invalid shadow between foreground and background
+  const cv::Mat shadowed = backprojector.DepthEdges(shadow);
+  EXPECT_EQ(shadowed.at<std::uint8_t>(100, 319), 0);
+  EXPECT_EQ(shadowed.at<std::uint8_t>(100, 330), 0);
   // A slanted plane (depth 2 m + 1 cm per pixel) has no edge.
   cv::Mat slant(480, 640, CV_32F);
   for (int u = 0; u < 640; ++u) slant.col(u).setTo(2.0f + 0.001f * u);
