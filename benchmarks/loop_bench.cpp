@@ -7,8 +7,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "feature/orb_extractor.h"
-#include "loop/keyframe_database.h"
-#include "loop/vocabulary.h"
+#include "place/keyframe_database.h"
+#include "place/vocabulary.h"
 
 namespace esdslam {
 namespace {

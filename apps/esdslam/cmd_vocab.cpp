@@ -8,8 +8,8 @@
 
 #include "apps/esdslam/commands.h"
 #include "common/timer.h"
-#include "loop/vocabulary.h"
-#include "loop/vocabulary_images.h"
+#include "place/vocabulary.h"
+#include "place/vocabulary_images.h"
 
 namespace esdslam::cli {
 namespace {

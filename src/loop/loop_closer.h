@@ -32,7 +32,7 @@
 #include "loop/loop_consistency.h"
 #include "loop/loop_correction.h"
 #include "loop/loop_verification.h"
-#include "loop/place_recognition.h"
+#include "place/place_recognition.h"
 #include "map/keyframe_sink.h"
 
 namespace esdslam {

@@ -13,10 +13,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "loop/bow_matcher.h"
-#include "loop/place_recognition.h"
+#include "place/bow_matcher.h"
+#include "place/place_recognition.h"
 #include "loop/relative_pose_refinement.h"
-#include "loop/rigid_ransac.h"
+#include "robust/rigid_ransac.h"
 
 namespace esdslam {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "camera/pinhole_camera.h"
-#include "loop/rigid_ransac.h"
+#include "robust/rigid_ransac.h"
 
 namespace esdslam {
 

@@ -23,7 +23,7 @@
 #include "dense/slam_keyframe_poses.h"
 #include "io/tum_sequence.h"
 #include "system/run_settings.h"
-#include "system/semantic_front_end.h"
+#include "dynamic/semantic_front_end.h"
 #include "system/slam_system.h"
 
 namespace esdslam {

@@ -20,8 +20,8 @@
 
 #include "io/settings_table.h"
 #include "loop/loop_closer.h"
-#include "loop/place_recognition.h"
-#include "loop/vocabulary.h"
+#include "place/place_recognition.h"
+#include "place/vocabulary.h"
 #include "tracking/relocalizer.h"
 
 namespace esdslam {

@@ -3,7 +3,7 @@
 // (BoW vector + direct index into the keyframe database) as it is handed over, then forwards it.
 // Called by tracking after it released Map::update_mutex.
 
-#include "loop/place_recognition.h"
+#include "place/place_recognition.h"
 #include "map/keyframe_sink.h"
 
 namespace esdslam {

@@ -22,7 +22,7 @@
 #include "io/settings.h"
 #include "semantic/semantic_settings.h"
 #include "system/loop_settings.h"
-#include "tracking/geometry_filter.h"
+#include "dynamic/geometry_filter.h"
 
 namespace esdslam {
 

@@ -45,7 +45,7 @@ SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
   tracker_->set_relocalizer(relocalizer_.get());
   if (options_.geometry_check) {
     geometry_filter_ = std::make_unique<GeometryFilter>(options_.geometry);
-    tracker_->set_geometry_filter(geometry_filter_.get());
+    tracker_->set_moving_keypoint_filter(geometry_filter_.get());
   }
   if (!options_.load_map.empty()) {
     LoadMap(options_.load_map, rig_, map_.get());

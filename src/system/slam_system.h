@@ -23,7 +23,7 @@
 #include "mapping/local_mapper.h"
 #include "system/loop_settings.h"
 #include "system/place_indexing_sink.h"
-#include "tracking/geometry_filter.h"
+#include "dynamic/geometry_filter.h"
 #include "tracking/relocalizer.h"
 #include "tracking/tracker.h"
 
@@ -36,7 +36,7 @@ struct SlamOptions {
   LocalMapperOptions mapping;
   FrameOptions frame;
   LoopOptions loop;            // place recognition, relocalization, loop closing (system/loop_settings.h)
-  bool geometry_check = false; // multi-view geometry check in tracking (tracking/geometry_filter.h)
+  bool geometry_check = false; // multi-view geometry check in tracking (dynamic/geometry_filter.h)
   GeometryFilterOptions geometry;
   // Map file to start from (map/map_serialization.h): tracking starts LOST and relocalizes in it.
   // With tracker.localization_only no keyframe is added (needs loop.relocalization).

@@ -10,9 +10,9 @@
 
 #include <vector>
 
-#include "loop/bow_matcher.h"
-#include "loop/place_recognition.h"
-#include "loop/pnp_ransac.h"
+#include "place/bow_matcher.h"
+#include "place/place_recognition.h"
+#include "robust/pnp_ransac.h"
 #include "optim/pose_optimizer.h"
 #include "tracking/frame.h"
 

@@ -8,7 +8,7 @@
 #include "map/keyframe.h"
 #include "map/map_point.h"
 #include "tracking/frame_matcher.h"
-#include "tracking/geometry_filter.h"
+#include "tracking/moving_keypoint_filter.h"
 #include "tracking/relocalizer.h"
 
 namespace esdslam {
@@ -58,7 +58,7 @@ TrackingResult Tracker::Track(Frame* frame) {
         if (!tracked) tracked = TrackReferenceKeyFrame(frame);
       }
       frame->reference_keyframe = reference_keyframe_;
-      if (tracked && geometry_filter_ != nullptr) FilterMovingKeypoints(frame);
+      if (tracked && moving_filter_ != nullptr) FilterMovingKeypoints(frame);
       if (tracked) tracked = TrackLocalMap(frame);
       state_ = tracked ? TrackingState::kOk : TrackingState::kLost;
       // No keyframe while local mapping is paused for a loop correction (reservation refused).
@@ -66,7 +66,7 @@ TrackingResult Tracker::Track(Frame* frame) {
           (sink_ == nullptr || sink_->ReserveKeyFrame()))
         result.new_keyframe = CreateNewKeyFrame(frame);
     }
-    if (result.new_keyframe != nullptr && geometry_filter_ != nullptr) geometry_filter_->AddKeyFrame(*result.new_keyframe, *frame);
+    if (result.new_keyframe != nullptr && moving_filter_ != nullptr) moving_filter_->AddKeyFrame(*result.new_keyframe, *frame);
     Finish(frame, tracked);
     result.state = state_;
     result.has_pose = frame->has_pose;
@@ -194,7 +194,7 @@ bool Tracker::TrackReferenceKeyFrame(Frame* frame) {
 // Geometry check on the first pose; without the moving keypoints' matches the pose is estimated
 // again (when enough are left), so that local-map tracking starts from an unbiased pose.
 void Tracker::FilterMovingKeypoints(Frame* frame) {
-  if (geometry_filter_->Apply(frame) == 0) return;
+  if (moving_filter_->Apply(frame) == 0) return;
   int kept = 0;
   for (int i = 0; i < frame->size(); ++i)
     kept += frame->map_points[i] != nullptr && !frame->outlier[i] && frame->map_points[i]->num_observations() > 0;

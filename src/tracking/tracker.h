@@ -22,8 +22,8 @@
 
 namespace esdslam {
 
-class Relocalizer;     // tracking/relocalizer.h
-class GeometryFilter;  // tracking/geometry_filter.h
+class Relocalizer;           // tracking/relocalizer.h
+class MovingKeypointFilter;  // tracking/moving_keypoint_filter.h
 
 enum class TrackingState { kNotInitialized, kOk, kLost };
 const char* ToString(TrackingState state);
@@ -76,7 +76,7 @@ class Tracker {
   void set_relocalizer(Relocalizer* relocalizer) { relocalizer_ = relocalizer; }
   // Multi-view geometry check run between the first pose and local-map tracking (null = off; not
   // owned): keypoints it finds moving are dropped and the pose is re-estimated without them.
-  void set_geometry_filter(GeometryFilter* filter) { geometry_filter_ = filter; }
+  void set_moving_keypoint_filter(MovingKeypointFilter* filter) { moving_filter_ = filter; }
   // For a map loaded from a file: start LOST, so the first frames are relocalized in it.
   void StartInExistingMap() { state_ = TrackingState::kLost; }
   // Frames relocalized by the relocalizer so far.
@@ -130,7 +130,7 @@ class Tracker {
   std::vector<MapPoint*> local_points_;
   std::vector<std::unique_ptr<MapPoint>> temporary_points_;  // depth points of the last frame
   Relocalizer* relocalizer_ = nullptr;
-  GeometryFilter* geometry_filter_ = nullptr;
+  MovingKeypointFilter* moving_filter_ = nullptr;
   int relocalizations_ = 0;
 };
 

@@ -1,4 +1,4 @@
-#include "loop/place_recognition.h"
+#include "place/place_recognition.h"
 
 #include <set>
 

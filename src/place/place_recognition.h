@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "loop/bow_matcher.h"
-#include "loop/keyframe_database.h"
-#include "loop/vocabulary.h"
+#include "place/bow_matcher.h"
+#include "place/keyframe_database.h"
+#include "place/vocabulary.h"
 #include "map/map_types.h"
 #include "map/feature_set.h"
 

@@ -1,4 +1,4 @@
-#include "loop/keyframe_database.h"
+#include "place/keyframe_database.h"
 
 #include <algorithm>
 

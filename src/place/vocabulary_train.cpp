@@ -9,7 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "common/error.h"
-#include "loop/vocabulary.h"
+#include "place/vocabulary.h"
 
 namespace esdslam {
 

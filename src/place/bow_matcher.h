@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "loop/bow_vector.h"
+#include "place/bow_vector.h"
 #include "map/feature_set.h"
 
 namespace esdslam {

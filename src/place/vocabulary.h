@@ -16,8 +16,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "loop/binary_descriptor.h"
-#include "loop/bow_vector.h"
+#include "place/binary_descriptor.h"
+#include "place/bow_vector.h"
 
 namespace esdslam {
 

@@ -1,11 +1,11 @@
-#include "loop/bow_matcher.h"
+#include "place/bow_matcher.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
 #include "common/error.h"
-#include "loop/binary_descriptor.h"
+#include "place/binary_descriptor.h"
 
 namespace esdslam {
 

@@ -8,9 +8,9 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "feature/orb_extractor.h"
-#include "loop/keyframe_database.h"
-#include "loop/vocabulary.h"
-#include "loop/vocabulary_images.h"
+#include "place/keyframe_database.h"
+#include "place/vocabulary.h"
+#include "place/vocabulary_images.h"
 #include "support/test_paths.h"
 
 namespace esdslam {

@@ -3,7 +3,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "system/semantic_front_end.h"
+#include "dynamic/semantic_front_end.h"
 
 namespace esdslam {
 namespace {

@@ -1,4 +1,4 @@
-#include "system/semantic_front_end.h"
+#include "dynamic/semantic_front_end.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "loop/rigid_ransac.h"
+#include "robust/rigid_ransac.h"
 
 #include <algorithm>
 #include <cmath>

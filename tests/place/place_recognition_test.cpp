@@ -7,8 +7,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "feature/orb_extractor.h"
-#include "loop/bow_matcher.h"
-#include "loop/place_recognition.h"
+#include "place/bow_matcher.h"
+#include "place/place_recognition.h"
 #include "map/keyframe.h"
 #include "map/map.h"
 #include "synth/synthetic_scene.h"

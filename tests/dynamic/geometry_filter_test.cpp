@@ -13,7 +13,7 @@
 #include "map/map_point.h"
 #include "synth/synthetic_scene.h"
 #include "tracking/frame.h"
-#include "tracking/geometry_filter.h"
+#include "dynamic/geometry_filter.h"
 #include "tracking/tracker.h"
 
 namespace esdslam {
@@ -63,7 +63,7 @@ FilterRun RunWithFilter(Masks masks, int frames = kFrames) {
   GeometryFilterOptions filter_options;
   filter_options.check.motion_window_fraction = 0;  // synthetic depth is registered exactly
   GeometryFilter filter(filter_options);
-  tracker.set_geometry_filter(&filter);
+  tracker.set_moving_keypoint_filter(&filter);
   FilterRun run;
   std::vector<StampedPose> estimate;
   std::vector<MapPoint*> initial_mover_points, initial_static_points;

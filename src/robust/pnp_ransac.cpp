@@ -1,4 +1,4 @@
-#include "loop/pnp_ransac.h"
+#include "robust/pnp_ransac.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,9 +1,9 @@
-#include "loop/keyframe_database.h"
+#include "place/keyframe_database.h"
 
 #include <gtest/gtest.h>
 
 #include "common/error.h"
-#include "loop/vocabulary.h"
+#include "place/vocabulary.h"
 #include "synthetic_descriptors.h"
 
 namespace esdslam {

@@ -1,4 +1,4 @@
-#include "loop/vocabulary_images.h"
+#include "place/vocabulary_images.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,4 +1,4 @@
-#include "tracking/geometry_filter.h"
+#include "dynamic/geometry_filter.h"
 
 #include <algorithm>
 #include <map>

@@ -1,4 +1,4 @@
-#include "loop/vocabulary.h"
+#include "place/vocabulary.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "loop/binary_descriptor.h"
+#include "place/binary_descriptor.h"
 
 #include "common/error.h"
 

@@ -32,6 +32,7 @@
 #include "dynamic/moving_point_votes.h"
 #include "common/geometry.h"
 #include "map/map_types.h"
+#include "tracking/moving_keypoint_filter.h"
 
 namespace esdslam {
 
@@ -61,16 +62,16 @@ struct GeometryFilterStats {
   cv::Mat mask;               // CV_8U, 255 = moving by geometry; empty when the check did not run
 };
 
-class GeometryFilter {
+class GeometryFilter : public MovingKeypointFilter {
  public:
   explicit GeometryFilter(const GeometryFilterOptions& options);
 
   void BeginFrame() { last_ = {}; }
   // frame: tracked with a first pose and map point associations; caller holds Map::update_mutex.
   // Returns the number of associations removed (the caller then re-estimates the pose).
-  int Apply(Frame* frame);
+  int Apply(Frame* frame) override;
   // A keyframe just made from `frame`: keeps its depth image for the veto.
-  void AddKeyFrame(const KeyFrame& keyframe, const Frame& frame);
+  void AddKeyFrame(const KeyFrame& keyframe, const Frame& frame) override;
 
   const GeometryFilterStats& last() const { return last_; }
   long total_points_culled() const { return total_culled_; }

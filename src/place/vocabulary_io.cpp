@@ -18,7 +18,7 @@
 #include <iterator>
 
 #include "common/error.h"
-#include "loop/vocabulary.h"
+#include "place/vocabulary.h"
 
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
 #error "vocabulary_io.cpp assumes a little-endian host"

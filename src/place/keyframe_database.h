@@ -13,7 +13,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "loop/bow_vector.h"
+#include "place/bow_vector.h"
 
 namespace esdslam {
 
