@@ -200,10 +200,14 @@ std::size_t AnchoredVoxelMap::CarveFreeSpace(const FreeSpaceView& view, int max_
   std::size_t removed = 0;
   for (std::uint32_t slot = 0; slot < anchors_.size(); ++slot) {
     Anchor& anchor = anchors_[slot];
+    // view camera <- anchor camera, composed once per anchor
+    const Eigen::Matrix3f rotation = view.cam_from_world_rotation() * anchor.rotation;
+    const Eigen::Vector3f translation = view.cam_from_world_rotation() * anchor.translation + view.cam_from_world_translation();
     for (std::uint32_t i = 0; i < anchor.points.size(); ++i) {
       StoredPoint& point = anchor.points[i];
       if (point.weight <= 0) continue;
-      if (UpdateEvidence(view.Classify(WorldPosition(anchor, point)), max_evidence, &point.evidence)) continue;
+      const FreeSpaceVerdict verdict = view.ClassifyInCamera(rotation * point.position + translation);
+      if (UpdateEvidence(verdict, max_evidence, &point.evidence)) continue;
       const auto it = index_.find(point.key);
       if (it != index_.end() && SameRef(it->second.anchor, it->second.index, slot, i)) index_.erase(it);
       point.weight = 0;

@@ -33,8 +33,7 @@ FreeSpaceView::FreeSpaceView(const PinholeCamera& camera, const Rigid3& world_fr
 
 float FreeSpaceView::Margin(float depth) const { return std::max(min_margin_, sigmas_ * noise_at_1m_ * depth * depth); }
 
-FreeSpaceVerdict FreeSpaceView::Classify(const Eigen::Vector3f& p_world, float extent) const {
-  const Eigen::Vector3f p = rotation_ * p_world + translation_;
+FreeSpaceVerdict FreeSpaceView::ClassifyInCamera(const Eigen::Vector3f& p, float extent) const {
   if (!(p.z() > 0.05f)) return FreeSpaceVerdict::kUnknown;
   float x = p.x() / p.z(), y = p.y() / p.z();
   if (distorted_) {
@@ -48,8 +47,9 @@ FreeSpaceVerdict FreeSpaceView::Classify(const Eigen::Vector3f& p_world, float e
   }
   const float u = static_cast<float>(intrinsics_.fx) * x + static_cast<float>(intrinsics_.cx);
   const float v = static_cast<float>(intrinsics_.fy) * y + static_cast<float>(intrinsics_.cy);
-  const int c = static_cast<int>(std::lround(u * inv_stride_)), r = static_cast<int>(std::lround(v * inv_stride_));
-  if (c < 0 || r < 0 || c >= depth_.cols || r >= depth_.rows) return FreeSpaceVerdict::kUnknown;
+  const float column = u * inv_stride_ + 0.5f, row = v * inv_stride_ + 0.5f;  // nearest sample
+  if (!(column >= 0 && row >= 0 && column < depth_.cols && row < depth_.rows)) return FreeSpaceVerdict::kUnknown;
+  const int c = static_cast<int>(column), r = static_cast<int>(row);
   const float d = depth_.at<float>(r, c);
   if (!std::isfinite(d) || !(d > 0)) return FreeSpaceVerdict::kUnknown;
   const float margin = Margin(d) + extent;

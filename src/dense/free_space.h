@@ -37,7 +37,14 @@ class FreeSpaceView {
   FreeSpaceView(const PinholeCamera& camera, const Rigid3& world_from_cam, const cv::Mat& depth_m, int stride,
                 const DenseOptions& options);
 
-  FreeSpaceVerdict Classify(const Eigen::Vector3f& p_world, float extent = 0.0f) const;
+  FreeSpaceVerdict Classify(const Eigen::Vector3f& p_world, float extent = 0.0f) const {
+    return ClassifyInCamera(rotation_ * p_world + translation_, extent);
+  }
+  // The same for a point already in this view's camera frame (callers that move many points of
+  // one frame compose the transforms once).
+  FreeSpaceVerdict ClassifyInCamera(const Eigen::Vector3f& p_cam, float extent = 0.0f) const;
+  const Eigen::Matrix3f& cam_from_world_rotation() const { return rotation_; }
+  const Eigen::Vector3f& cam_from_world_translation() const { return translation_; }
 
  private:
   float Margin(float depth) const;
