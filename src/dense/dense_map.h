@@ -73,9 +73,7 @@ class DenseMap {
   // Every keyframe's rays at its resolved pose, in id order.
   std::vector<PosedRays> RaysAt(const KeyframePoses& poses) const;
   // Ray end points in the camera frame (metres).
-  std::vector<Eigen::Vector3f> RayEndpoints(const KeyframeRays& rays, std::vector<std::uint8_t>* at_edge = nullptr) const {
-    return backprojector_.RayEndpoints(rays, at_edge);
-  }
+  std::vector<Eigen::Vector3f> RayEndpoints(const KeyframeRays& rays) const { return backprojector_.RayEndpoints(rays); }
 
   DenseMapStats stats() const;
   const DenseOptions& options() const { return options_; }

@@ -13,7 +13,7 @@ struct DenseOptions {
   int mask_dilation_px = 7;           // dynamic masks are grown by this many pixels before use
   // Depth edges: a pixel with a neighbour within edgeFilter px whose depth is farther by more
   // than edgeJumpRatio * z (the foreground side of a silhouette, and mixed pixels between) is
-  // left out of the dense cloud and marks no OctoMap cell occupied. RGB-D sensors smear depth
+  // left out of the dense cloud (the OctoMap keeps it: its cells are coarser). RGB-D sensors smear depth
   // across silhouettes (mixed pixels, foreground fattening), which another view then sees
   // through; the same surface seen from elsewhere is away from a silhouette.
   int edge_filter_px = 2;             // 0 = off

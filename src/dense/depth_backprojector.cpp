@@ -70,9 +70,8 @@ KeyframeObservation DepthBackprojector::Observe(const cv::Mat& bgr, const cv::Ma
     throw Error(fmt::format("dense: image is {}x{} but the camera is {}x{}", depth_m.cols, depth_m.rows, ray_x_.cols, ray_x_.rows));
   const cv::Mat excluded = ExclusionMask(dynamic_mask, depth_m.size());
   KeyframeObservation observation;
-  const cv::Mat edges = DepthEdges(depth_m);
-  observation.points_cam = BackprojectPixels(bgr, depth_m, excluded | edges);
-  observation.rays = SampleRays(depth_m, excluded, edges);
+  observation.points_cam = BackprojectPixels(bgr, depth_m, excluded | DepthEdges(depth_m));
+  observation.rays = SampleRays(depth_m, excluded);
   return observation;
 }
 
@@ -94,32 +93,27 @@ PointCloud DepthBackprojector::BackprojectPixels(const cv::Mat& bgr, const cv::M
   return cloud;
 }
 
-KeyframeRays DepthBackprojector::SampleRays(const cv::Mat& depth_m, const cv::Mat& excluded, const cv::Mat& edges) const {
+KeyframeRays DepthBackprojector::SampleRays(const cv::Mat& depth_m, const cv::Mat& excluded) const {
   KeyframeRays rays;
   rays.stride = ray_stride_;
   rays.depth_mm = cv::Mat::zeros((depth_m.rows + ray_stride_ - 1) / ray_stride_, (depth_m.cols + ray_stride_ - 1) / ray_stride_, CV_16U);
-  rays.at_edge = cv::Mat::zeros(rays.depth_mm.size(), CV_8U);
   for (int r = 0; r < rays.depth_mm.rows; ++r) {
     for (int c = 0; c < rays.depth_mm.cols; ++c) {
       const int u = c * ray_stride_, v = r * ray_stride_;
       const float z = depth_m.at<float>(v, u);
       if (!std::isfinite(z) || z < options_.min_depth || excluded.at<std::uint8_t>(v, u)) continue;
       rays.depth_mm.at<std::uint16_t>(r, c) = static_cast<std::uint16_t>(std::min(65535.0f, std::round(1000.0f * z)));
-      rays.at_edge.at<std::uint8_t>(r, c) = edges.at<std::uint8_t>(v, u);
     }
   }
   return rays;
 }
 
-std::vector<Eigen::Vector3f> DepthBackprojector::RayEndpoints(const KeyframeRays& rays, std::vector<std::uint8_t>* at_edge) const {
+std::vector<Eigen::Vector3f> DepthBackprojector::RayEndpoints(const KeyframeRays& rays) const {
   std::vector<Eigen::Vector3f> endpoints;
-  if (at_edge != nullptr) at_edge->clear();
   for (int r = 0; r < rays.depth_mm.rows; ++r)
     for (int c = 0; c < rays.depth_mm.cols; ++c) {
       const std::uint16_t mm = rays.depth_mm.at<std::uint16_t>(r, c);
-      if (mm == 0) continue;
-      endpoints.push_back(Point(c * rays.stride, r * rays.stride, 0.001f * mm));
-      if (at_edge != nullptr) at_edge->push_back(rays.at_edge.empty() ? 0 : rays.at_edge.at<std::uint8_t>(r, c));
+      if (mm > 0) endpoints.push_back(Point(c * rays.stride, r * rays.stride, 0.001f * mm));
     }
   return endpoints;
 }

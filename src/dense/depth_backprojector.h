@@ -20,8 +20,7 @@ namespace esdslam {
 struct KeyframeRays {
   int stride = 1;     // pixels between samples in u and v
   cv::Mat depth_mm;   // CV_16U; sample (r, c) is pixel (c * stride, r * stride); 0 = no ray
-  cv::Mat at_edge;    // CV_8U, same grid; 1 = the reading is at a depth edge (carves free space only)
-  std::size_t bytes() const { return depth_mm.total() * depth_mm.elemSize() + at_edge.total() * at_edge.elemSize(); }
+  std::size_t bytes() const { return depth_mm.total() * depth_mm.elemSize(); }
 };
 
 struct KeyframeObservation {
@@ -39,9 +38,8 @@ class DepthBackprojector {
   PointCloud Backproject(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& dynamic_mask) const {
     return Observe(bgr, depth_m, dynamic_mask).points_cam;
   }
-  // Ray end points (camera frame) of the samples with depth; `at_edge` (optional) receives their
-  // KeyframeRays::at_edge flags in the same order.
-  std::vector<Eigen::Vector3f> RayEndpoints(const KeyframeRays& rays, std::vector<std::uint8_t>* at_edge = nullptr) const;
+  // Ray end points (camera frame) of the samples with depth.
+  std::vector<Eigen::Vector3f> RayEndpoints(const KeyframeRays& rays) const;
 
   // The mask actually applied: `dynamic_mask` dilated (empty mask -> all zeros).
   cv::Mat ExclusionMask(const cv::Mat& dynamic_mask, cv::Size size) const;
@@ -52,7 +50,7 @@ class DepthBackprojector {
 
  private:
   PointCloud BackprojectPixels(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& excluded) const;
-  KeyframeRays SampleRays(const cv::Mat& depth_m, const cv::Mat& excluded, const cv::Mat& edges) const;
+  KeyframeRays SampleRays(const cv::Mat& depth_m, const cv::Mat& excluded) const;
   Eigen::Vector3f Point(int u, int v, float z) const {
     return Eigen::Vector3f(ray_x_.at<float>(v, u) * z, ray_y_.at<float>(v, u) * z, z);
   }

@@ -26,10 +26,8 @@ std::size_t InsertKeyframeRays(octomap::OcTree* tree, const DenseMap& map, const
   const Eigen::Vector3f origin = posed.world_from_cam.translation().cast<float>();
   octomap::KeySet free_cells, occupied_cells;
   octomap::KeyRay ray;
-  std::vector<std::uint8_t> at_edge;
-  const std::vector<Eigen::Vector3f> endpoints = map.RayEndpoints(posed.rays, &at_edge);
-  for (std::size_t i = 0; i < endpoints.size(); ++i) {
-    const Eigen::Vector3f& endpoint_cam = endpoints[i];
+  const std::vector<Eigen::Vector3f> endpoints = map.RayEndpoints(posed.rays);
+  for (const Eigen::Vector3f& endpoint_cam : endpoints) {
     const Eigen::Vector3f direction = rotation * endpoint_cam;
     const float range = direction.norm();
     const float sigma = static_cast<float>(options.depth_noise_at_1m) * endpoint_cam.z() * endpoint_cam.z();
@@ -39,7 +37,7 @@ std::size_t InsertKeyframeRays(octomap::OcTree* tree, const DenseMap& map, const
     if (free_length > 0 && tree->computeRayKeys(ToOcto(origin), ToOcto(origin + direction * (free_length / range)), ray))
       free_cells.insert(ray.begin(), ray.end());
     octomap::OcTreeKey key;
-    if (surface && !at_edge[i] && tree->coordToKeyChecked(ToOcto(origin + direction), key)) occupied_cells.insert(key);
+    if (surface && tree->coordToKeyChecked(ToOcto(origin + direction), key)) occupied_cells.insert(key);
   }
   for (const octomap::OcTreeKey& key : free_cells)
     if (occupied_cells.find(key) == occupied_cells.end()) tree->updateNode(key, false, /*lazy_eval=*/true);

@@ -3,8 +3,7 @@
 // dynamic pixels left out) are inserted with ray casting from that keyframe's camera centre at
 // its current pose, so the space between camera and surface is carved free (up to a noise margin
 // before the reading) and surfaces become occupied; readings beyond
-// DenseOptions::octomap_max_range only carve free space up to that range; readings at a depth
-// edge (DenseOptions::edge_filter_px) carve free space but mark nothing occupied. Then the
+// DenseOptions::octomap_max_range only carve free space up to that range. Then the
 // occupied cells get the dense points' free-space consistency (dense/free_space.h), keyframe by
 // keyframe with the keyframes' ray depths: a cell later keyframes see through is set free.
 // Resolution: DenseOptions::octomap_resolution. Written as a binary .bt file (OctoMap's own
