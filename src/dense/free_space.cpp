@@ -21,11 +21,11 @@ FreeSpaceView::FreeSpaceView(const PinholeCamera& camera, const Rigid3& world_fr
   const Rigid3 cam_from_world = world_from_cam.inverse();
   rotation_ = cam_from_world.rotation_matrix().cast<float>();
   translation_ = cam_from_world.translation().cast<float>();
-  // Readings beyond Dense.maxDepth (biased and noisy at range) give no evidence, as they give no points.
+  // Readings beyond Dense.maxDepth give no points but still prove the space in front of them
+  // free (their margin grows with sigma(d)).
   cv::Mat valid_or_zero = depth_m.clone();
   cv::patchNaNs(valid_or_zero, 0.0);
   valid_or_zero.setTo(0.0f, valid_or_zero < 0);
-  valid_or_zero.setTo(0.0f, valid_or_zero > static_cast<float>(options.max_depth));
   depth_ = valid_or_zero;
   // The window is in raw pixels: a coarser sample grid uses proportionally fewer samples.
   const int samples = options.free_space_window_px > 0 ? std::max(1, static_cast<int>(std::lround(options.free_space_window_px * inv_stride_))) : 0;
