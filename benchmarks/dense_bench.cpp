@@ -9,6 +9,7 @@
 //
 //   build/benchmarks/dense_bench                                   # all cases, one process
 //   build/benchmarks/dense_bench --benchmark_filter='Bonn/1/'      # one case: its own peak RSS
+//   build/benchmarks/dense_bench --benchmark_filter='Bonn/10/'     # keyframe time without / with free-space consistency
 #include <sys/resource.h>
 
 #include <filesystem>
@@ -86,11 +87,22 @@ void MapAndReport(benchmark::State& state, const PinholeCamera& camera, const De
   state.counters["final_cloud_ms"] = summary.cloud_ms;
   state.counters["final_octomap_ms"] = summary.octomap_ms;
   state.counters["stored_points"] = static_cast<double>(stats.map.points);
+  state.counters["carved_points"] = static_cast<double>(stats.map.carved_points);
   state.counters["output_points"] = static_cast<double>(summary.points);
   state.counters["map_MB"] = stats.map.point_bytes / 1e6;
   state.counters["rays_MB"] = stats.map.ray_bytes / 1e6;
   state.counters["octomap_occupied"] = static_cast<double>(summary.occupied_leaves);
   state.counters["peak_rss_MB"] = PeakRssMb();
+}
+
+// Arg 1 = 0: without the free-space consistency and the depth-edge filter (the map before
+// issue 18), 1: with them (default settings); run back to back in one process for the ratio.
+DenseOptions WithConsistency(DenseOptions options, std::int64_t on) {
+  if (on == 0) {
+    options.free_space_carving = false;
+    options.edge_filter_px = 0;
+  }
+  return options;
 }
 
 void MapSequence(benchmark::State& state, const std::string& name, const std::string& config) {
@@ -99,7 +111,8 @@ void MapSequence(benchmark::State& state, const std::string& name, const std::st
     return;
   }
   const Sequence seq = OpenSequence(name, config);
-  MapAndReport(state, PinholeCamera(seq.settings.core.camera), seq.settings.dense, seq.frames.size(), [&](std::size_t i) {
+  const DenseOptions options = WithConsistency(seq.settings.dense, state.range(1));
+  MapAndReport(state, PinholeCamera(seq.settings.core.camera), options, seq.frames.size(), [&](std::size_t i) {
     const RgbdImages images = LoadRgbd(seq.frames[i], seq.settings.core.depth_map_factor);
     return DenseKeyframe{static_cast<long>(i), seq.frames[i].timestamp, seq.world_from_cam[i], images.bgr, images.depth_m, cv::Mat()};
   });
@@ -107,25 +120,27 @@ void MapSequence(benchmark::State& state, const std::string& name, const std::st
 
 // The synthetic static room (240 frames along the arc, ground-truth poses, every `step`-th frame),
 // with exact depth (arg 1 = 0) or Kinect-like noise sigma = 1.5 mm * z^2 (arg 1 = 15, in 0.1 mm):
-// the same surfaces seen by 10x more keyframes.
+// the same surfaces seen by 10x more keyframes; arg 2 as arg 1 of MapSequence.
 void BM_DenseMap_SynthStatic(benchmark::State& state) {
   SynthOptions synth = SynthPreset("static");
   synth.depth_noise_at_1m = 1e-4 * static_cast<double>(state.range(1));
   const SyntheticScene scene(synth);
-  DenseOptions options;
+  DenseOptions options = WithConsistency(DenseOptions{}, state.range(2));
   options.depth_noise_at_1m = synth.depth_noise_at_1m;
   MapAndReport(state, scene.camera(), options, static_cast<std::size_t>(scene.num_frames()), [&](std::size_t i) {
     const SynthFrame frame = scene.RenderFrame(static_cast<int>(i));
     return DenseKeyframe{static_cast<long>(i), frame.timestamp, frame.world_from_cam, frame.bgr, frame.depth_m, cv::Mat()};
   });
 }
-BENCHMARK(BM_DenseMap_SynthStatic)->Args({10, 0})->Args({1, 0})->Args({10, 15})->Args({1, 15})->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DenseMap_SynthStatic)
+    ->Args({10, 0, 1})->Args({1, 0, 1})->Args({10, 15, 0})->Args({10, 15, 1})->Args({1, 15, 1})
+    ->Iterations(1)->Unit(benchmark::kMillisecond);
 
 void BM_DenseMap_Bonn(benchmark::State& state) { MapSequence(state, "bonn_crowd_dev", "bonn.yaml"); }
-BENCHMARK(BM_DenseMap_Bonn)->Arg(10)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DenseMap_Bonn)->Args({10, 0})->Args({10, 1})->Args({1, 1})->Iterations(1)->Unit(benchmark::kMillisecond);
 
 void BM_DenseMap_TumRpy(benchmark::State& state) { MapSequence(state, "tum_fr1_rpy_dev", "tum_fr1.yaml"); }
-BENCHMARK(BM_DenseMap_TumRpy)->Arg(10)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DenseMap_TumRpy)->Args({10, 0})->Args({10, 1})->Args({1, 1})->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace esdslam

@@ -32,23 +32,6 @@ struct MapArgs {
   double max_dt = 0.02;
 };
 
-// The frame whose rgb timestamp is nearest to `timestamp`, or nullptr beyond max_dt.
-const FrameEntry* NearestFrame(const std::vector<FrameEntry>& frames, double timestamp, double max_dt) {
-  const auto it = std::lower_bound(frames.begin(), frames.end(), timestamp,
-                                   [](const FrameEntry& f, double t) { return f.timestamp < t; });
-  const FrameEntry* best = nullptr;
-  double best_dt = max_dt;
-  for (auto candidate : {it, it == frames.begin() ? it : std::prev(it)}) {
-    if (candidate == frames.end()) continue;
-    const double dt = std::abs(candidate->timestamp - timestamp);
-    if (dt <= best_dt) {
-      best_dt = dt;
-      best = &*candidate;
-    }
-  }
-  return best;
-}
-
 cv::Mat LoadMask(const std::string& masks_dir, const FrameEntry& frame) {
   if (masks_dir.empty()) return cv::Mat();
   const std::string path = fmt::format("{}/{:.6f}.png", masks_dir, frame.timestamp);

@@ -47,7 +47,7 @@ int RunSynth(const SynthArgs& args) {
 
 RunFn SetupSynth(CLI::App& app) {
   auto args = std::make_shared<SynthArgs>();
-  app.add_option("--preset", args->preset, "static | dynamic | loop | orbit | corridor (loop-closing benchmark)")
+  app.add_option("--preset", args->preset, "static | dynamic | loop | orbit | corridor (loop-closing benchmark) | moved_box")
       ->check(CLI::IsMember({"static", "dynamic", "loop", "orbit", "corridor"}))
       ->capture_default_str();
   app.add_option("--out", args->out_dir, "Output folder (TUM layout)")->required();

@@ -16,6 +16,13 @@ std::uint16_t ToColorX128(float value_x128) {
 
 std::uint8_t FromColorX128(std::uint16_t value_x128) { return static_cast<std::uint8_t>((value_x128 + 64) / 128); }
 
+// Inverse variance of a reading at depth z (sigma ~ z^2), relative to one at 1 m; readings nearer
+// than 0.5 m count as at 0.5 m (their noise is no longer dominated by the z^2 term).
+float ReadingWeight(float z) {
+  const float z_m = std::max(0.5f, z);
+  return 1.0f / (z_m * z_m * z_m * z_m);
+}
+
 bool SameRef(std::uint32_t anchor_a, std::uint32_t index_a, std::uint32_t anchor_b, std::uint32_t index_b) {
   return anchor_a == anchor_b && index_a == index_b;
 }
@@ -60,10 +67,11 @@ void AnchoredVoxelMap::Integrate(long keyframe_id, const Rigid3& world_from_cam,
     const Eigen::Vector3f p_world = rotation * p + translation;
     const Rgb8& c = points_cam.colors[i];
     const float color_x128[3] = {128.0f * c.r, 128.0f * c.g, 128.0f * c.b};
+    const float weight = ReadingWeight(p.z());
     const std::uint64_t key = VoxelKey(p_world, voxel_size_);
     const auto [it, inserted] = index_.try_emplace(key, PointRef{slot, static_cast<std::uint32_t>(own.size())});
     if (!inserted) {
-      Accumulate(it->second, p_world, color_x128, 1.0f);
+      Accumulate(it->second, p_world, color_x128, weight);
       continue;
     }
     // Depth noise scatters a surface along the viewing ray: a reading whose voxel is empty but
@@ -73,13 +81,13 @@ void AnchoredVoxelMap::Integrate(long keyframe_id, const Rigid3& world_from_cam,
     index_.erase(it);  // (re-added below unless merged; the probe must not find this reading itself)
     const PointRef* near = NearPointOnRay(p_world, (rotation * p).normalized(), std::max(static_cast<float>(voxel_size_), 2.0f * sigma));
     if (near != nullptr) {
-      Accumulate(*near, p_world, color_x128, 1.0f);
+      Accumulate(*near, p_world, color_x128, weight);
       continue;
     }
     index_.emplace(key, PointRef{slot, static_cast<std::uint32_t>(own.size())});
     StoredPoint point;
     point.position = p;
-    point.weight = 1.0f;
+    point.weight = weight;
     point.key = key;
     for (int k = 0; k < 3; ++k) point.color_x128[k] = ToColorX128(color_x128[k]);
     own.push_back(point);
@@ -164,6 +172,8 @@ void AnchoredVoxelMap::Reinsert(std::uint32_t slot, std::uint32_t index) {
   const float color_x128[3] = {static_cast<float>(point.color_x128[0]), static_cast<float>(point.color_x128[1]),
                                static_cast<float>(point.color_x128[2])};
   Accumulate(it->second, p_world, color_x128, point.weight);
+  std::uint8_t& kept_evidence = anchors_[it->second.anchor].points[it->second.index].evidence;
+  kept_evidence = std::max(kept_evidence, point.evidence);
   point.weight = 0;
   ++anchor.holes;
   --live_points_;
@@ -184,6 +194,31 @@ void AnchoredVoxelMap::Compact(std::uint32_t slot) {
   }
   anchor.points.swap(kept);
   anchor.holes = 0;
+}
+
+std::size_t AnchoredVoxelMap::CarveFreeSpace(const FreeSpaceView& view, int max_evidence) {
+  std::size_t removed = 0;
+  for (std::uint32_t slot = 0; slot < anchors_.size(); ++slot) {
+    Anchor& anchor = anchors_[slot];
+    // view camera <- anchor camera, composed once per anchor
+    const Eigen::Matrix3f rotation = view.cam_from_world_rotation() * anchor.rotation;
+    const Eigen::Vector3f translation = view.cam_from_world_rotation() * anchor.translation + view.cam_from_world_translation();
+    for (std::uint32_t i = 0; i < anchor.points.size(); ++i) {
+      StoredPoint& point = anchor.points[i];
+      if (point.weight <= 0) continue;
+      const FreeSpaceVerdict verdict = view.ClassifyInCamera(rotation * point.position + translation);
+      if (UpdateEvidence(verdict, max_evidence, &point.evidence)) continue;
+      const auto it = index_.find(point.key);
+      if (it != index_.end() && SameRef(it->second.anchor, it->second.index, slot, i)) index_.erase(it);
+      point.weight = 0;
+      ++anchor.holes;
+      --live_points_;
+      ++removed;
+    }
+    if (2 * anchor.holes > anchor.points.size()) Compact(slot);
+  }
+  carved_points_ += removed;
+  return removed;
 }
 
 PointCloud AnchoredVoxelMap::Extract(const KeyframePoses& poses) const {

@@ -12,7 +12,12 @@
 // sigma(z) = depth_noise_at_1m * z^2 the sensor's depth noise: depth noise scatters a surface
 // along the ray, and without this the noise tails would fill a band of voxels around every
 // surface as observations accumulate. Otherwise it starts a new map point anchored to the keyframe.
-// A band still grows from readings beyond the radius, but far more slowly (tests/dense).
+// A band still grows from readings beyond the radius, but far more slowly (tests/dense). Readings
+// are averaged with weight 1 / max(z, 0.5 m)^4, their inverse depth variance: a surface seen from
+// 1 m and from 4 m lies where the near view put it.
+//
+// CarveFreeSpace() removes points that later views see through (dense/free_space.h); each point
+// keeps its evidence count for that.
 //
 // The voxel index is valid for the anchor poses it was built with. UpdatePoses() re-indexes the
 // points of every anchor whose pose moved a point by more than a threshold (default a quarter
@@ -28,6 +33,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "dense/free_space.h"
 #include "dense/point_cloud.h"
 
 namespace esdslam {
@@ -48,6 +54,11 @@ class AnchoredVoxelMap {
   // voxels (anchors missing from `poses` keep their indexed pose). Returns how many it re-indexed.
   int UpdatePoses(const KeyframePoses& poses, double threshold_voxels = 0.25);
 
+  // Free-space consistency (dense/free_space.h): classifies every stored point (at its anchor's
+  // indexed pose) in `view`, updates its evidence and removes the points whose evidence runs out.
+  // Returns the number removed. Call it before integrating the view's own points.
+  std::size_t CarveFreeSpace(const FreeSpaceView& view, int max_evidence);
+
   // World-frame cloud, one point per voxel, at `poses` (anchors missing there: indexed pose).
   PointCloud Extract(const KeyframePoses& poses) const;
 
@@ -55,6 +66,7 @@ class AnchoredVoxelMap {
   std::size_t num_points() const { return live_points_; }
   std::size_t num_anchors() const { return anchors_.size(); }
   std::size_t num_reindexed_points() const { return reindexed_points_; }  // summed over all UpdatePoses calls
+  std::size_t num_carved_points() const { return carved_points_; }        // summed over all CarveFreeSpace calls
   // Bytes held by the points and the voxel index (containers' capacity plus an estimate of the
   // hash table's node and bucket overhead).
   std::size_t memory_bytes() const;
@@ -68,6 +80,7 @@ class AnchoredVoxelMap {
     float weight = 0;          // pixels averaged; 0 = merged into another point (a hole)
     std::uint64_t key = 0;     // voxel of the point at its anchor's indexed pose
     std::uint16_t color_x128[3] = {0, 0, 0};  // mean RGB * 128
+    std::uint8_t evidence = 1;  // free-space evidence: keyframes that saw it, less those that saw through it
   };
   struct Anchor {
     long keyframe_id = 0;
@@ -105,6 +118,7 @@ class AnchoredVoxelMap {
   std::unordered_map<std::uint64_t, PointRef> index_;
   std::size_t live_points_ = 0;
   std::size_t reindexed_points_ = 0;
+  std::size_t carved_points_ = 0;
 };
 
 }  // namespace esdslam

@@ -1,5 +1,8 @@
 #include "dense/dense_map.h"
 
+#include <optional>
+
+#include "dense/free_space.h"
 #include "dense/outlier_filter.h"
 
 namespace esdslam {
@@ -9,11 +12,18 @@ DenseMap::DenseMap(const PinholeCamera& camera, const DenseOptions& options)
 
 void DenseMap::Integrate(const DenseKeyframe& keyframe, const KeyframePoses& poses, bool behind) {
   KeyframeObservation observation = backprojector_.Observe(keyframe.bgr, keyframe.depth_m, keyframe.dynamic_mask);
+  const auto given = poses.find(keyframe.id);
+  const Rigid3 world_from_cam = given != poses.end() ? given->second : keyframe.world_from_cam;
+  // Every valid reading is free-space evidence, masked or not: a person in front of a stored
+  // point only occludes it.
+  std::optional<FreeSpaceView> view;
+  if (options_.free_space_carving) view.emplace(backprojector_.camera(), world_from_cam, keyframe.depth_m, 1, options_);
   std::lock_guard<std::mutex> lock(mutex_);
   keyframes_[keyframe.id] = KeyframeRecord{keyframe.timestamp, keyframe.world_from_cam, std::move(observation.rays)};
   const KeyframePoses resolved = ResolveLocked(poses);
   reindexed_anchors_ += points_.UpdatePoses(resolved, behind ? 1.0 : 0.25);
-  points_.Integrate(keyframe.id, resolved.at(keyframe.id), observation.points_cam);
+  if (view) points_.CarveFreeSpace(*view, options_.free_space_max_evidence);
+  points_.Integrate(keyframe.id, world_from_cam, observation.points_cam);
 }
 
 KeyframePoses DenseMap::ResolveLocked(const KeyframePoses& poses) const {
@@ -72,6 +82,7 @@ DenseMapStats DenseMap::stats() const {
   for (const auto& entry : keyframes_) stats.ray_bytes += entry.second.rays.bytes();
   stats.reindexed_anchors = reindexed_anchors_;
   stats.reindexed_points = points_.num_reindexed_points();
+  stats.carved_points = points_.num_carved_points();
   return stats;
 }
 

@@ -46,6 +46,7 @@ struct DenseMapStats {
   std::size_t ray_bytes = 0;       // every keyframe's KeyframeRays
   long reindexed_anchors = 0;      // keyframes re-indexed after pose changes, summed over the run
   std::size_t reindexed_points = 0;  // points those re-indexings moved
+  std::size_t carved_points = 0;     // points removed by free-space evidence (dense/free_space.h)
 };
 
 class DenseMap {
@@ -55,7 +56,10 @@ class DenseMap {
   // Back-projects `keyframe` (no lock held), re-indexes the keyframes whose pose in `poses` moved
   // a point by more than a quarter voxel (`behind`: by a voxel; bundle adjustment nudges most
   // keyframes of a small scene by millimetres every time, and re-indexing all of them costs more
-  // than the integration itself), then integrates it at its pose in `poses` (else its hand-off pose).
+  // than the integration itself), applies its depth's free-space evidence to the stored points
+  // (Dense.freeSpaceCarving, dense/free_space.h: every valid reading, masked or not, since a
+  // person in front of a point only occludes it), then integrates it at its pose in `poses`
+  // (else its hand-off pose).
   void Integrate(const DenseKeyframe& keyframe, const KeyframePoses& poses, bool behind = false);
 
   // Every keyframe's world_from_cam: from `poses` when present, else the hand-off pose.
@@ -73,6 +77,7 @@ class DenseMap {
 
   DenseMapStats stats() const;
   const DenseOptions& options() const { return options_; }
+  const PinholeCamera& camera() const { return backprojector_.camera(); }
 
  private:
   struct KeyframeRecord {

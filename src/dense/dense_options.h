@@ -11,6 +11,13 @@ struct DenseOptions {
   double max_depth = 4.0;             // m: farther readings are ignored (RGB-D noise grows with z^2)
   int pixel_stride = 2;               // back-project every n-th pixel in u and v
   int mask_dilation_px = 7;           // dynamic masks are grown by this many pixels before use
+  // Depth edges: a pixel with a neighbour within edgeFilter px whose depth is farther by more
+  // than edgeJumpRatio * z (the foreground side of a silhouette, and mixed pixels between) is
+  // left out of the dense cloud (the OctoMap keeps it: its cells are coarser). RGB-D sensors smear depth
+  // across silhouettes (mixed pixels, foreground fattening), which another view then sees
+  // through; the same surface seen from elsewhere is away from a silhouette.
+  int edge_filter_px = 2;             // 0 = off
+  double edge_jump_ratio = 0.05;
   // m: depth noise sigma at 1 m, sigma(z) = depthNoiseAt1m * z^2 (Kinect v1 / Xtion: about 1.4e-3,
   // Khoshelham and Elberink 2012); readings within 2 sigma of a point on their ray merge into it.
   double depth_noise_at_1m = 0.0015;
@@ -20,17 +27,33 @@ struct DenseOptions {
   double octomap_resolution = 0.05;   // m: OctoMap leaf size
   double octomap_max_range = 4.0;     // m: rays are cut at this length when carving free space
   bool write_pcd = false;             // also write dense.pcd (PCL) next to dense.ply
+  // Free-space consistency (dense/free_space.h): a stored point or occupied OctoMap cell that a
+  // later keyframe sees through by more than max(freeSpaceMinMargin, freeSpaceSigmas * sigma(z))
+  // loses evidence; at none it is removed. Evidence grows by one per keyframe that sees it, up to
+  // freeSpaceMaxEvidence keyframes that must see through it before it goes.
+  bool free_space_carving = true;
+  double free_space_sigmas = 3.0;       // depth-noise sigmas
+  double free_space_min_margin = 0.03;  // m
+  int free_space_window_px = 2;         // carve only where the whole (2n+1)^2 neighbourhood sees past
+  int free_space_max_evidence = 2;      // keyframes
 
   void Check() const {
     if (!(voxel_size > 0)) throw Error("Dense.voxelSize must be positive");
     if (!(min_depth >= 0) || !(max_depth > min_depth)) throw Error("Dense depth range must satisfy 0 <= minDepth < maxDepth");
     if (pixel_stride < 1) throw Error("Dense.pixelStride must be >= 1");
     if (mask_dilation_px < 0) throw Error("Dense.maskDilation must be >= 0");
+    if (edge_filter_px < 0 || edge_filter_px > 10) throw Error("Dense.edgeFilter must be in 0..10 px");
+    if (!(edge_jump_ratio > 0) || edge_jump_ratio > 1) throw Error("Dense.edgeJumpRatio must be in (0, 1]");
     if (!(depth_noise_at_1m >= 0) || depth_noise_at_1m > 0.05) throw Error("Dense.depthNoiseAt1m must be in [0, 0.05]");
     if (outlier_neighbors < 1) throw Error("Dense.outlierNeighbors must be >= 1");
     if (!(outlier_std_ratio > 0)) throw Error("Dense.outlierStdRatio must be positive");
     if (!(octomap_resolution > 0)) throw Error("Dense.octomapResolution must be positive");
     if (!(octomap_max_range > 0)) throw Error("Dense.octomapMaxRange must be positive");
+    if (!(free_space_sigmas >= 1) || free_space_sigmas > 10) throw Error("Dense.freeSpaceSigmas must be in [1, 10]");
+    if (!(free_space_min_margin > 0) || free_space_min_margin > 1.0)
+      throw Error("Dense.freeSpaceMinMargin must be in (0, 1] m");
+    if (free_space_window_px < 0 || free_space_window_px > 10) throw Error("Dense.freeSpaceWindow must be in 0..10 px");
+    if (free_space_max_evidence < 1 || free_space_max_evidence > 100) throw Error("Dense.freeSpaceMaxEvidence must be in 1..100");
   }
 };
 

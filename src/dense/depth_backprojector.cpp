@@ -44,6 +44,25 @@ cv::Mat DepthBackprojector::ExclusionMask(const cv::Mat& dynamic_mask, cv::Size 
   return dilated;
 }
 
+cv::Mat DepthBackprojector::DepthEdges(const cv::Mat& depth_m) const {
+  if (options_.edge_filter_px <= 0) return cv::Mat::zeros(depth_m.size(), CV_8U);
+  // Farthest valid depth in the window (invalid pixels count as 0: the shadows that structured
+  // light casts beside silhouettes say nothing about the pixel).
+  cv::Mat depth_or_zero = cv::Mat::zeros(depth_m.size(), CV_32F), farthest;
+  depth_m.copyTo(depth_or_zero, depth_m > 0);  // NaN compares false
+  const int k = 2 * options_.edge_filter_px + 1;
+  cv::dilate(depth_or_zero, farthest, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+  const float ratio = static_cast<float>(options_.edge_jump_ratio);
+  cv::Mat edges(depth_m.size(), CV_8U);
+  for (int v = 0; v < depth_m.rows; ++v) {
+    const float* z = depth_or_zero.ptr<float>(v);
+    const float* far = farthest.ptr<float>(v);
+    std::uint8_t* edge = edges.ptr<std::uint8_t>(v);
+    for (int u = 0; u < depth_m.cols; ++u) edge[u] = z[u] > 0 && far[u] - z[u] > ratio * z[u];
+  }
+  return edges;
+}
+
 KeyframeObservation DepthBackprojector::Observe(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& dynamic_mask) const {
   if (depth_m.type() != CV_32F || bgr.type() != CV_8UC3 || depth_m.size() != bgr.size())
     throw Error("dense: expected CV_8UC3 colour and CV_32F depth of the same size");
@@ -51,7 +70,7 @@ KeyframeObservation DepthBackprojector::Observe(const cv::Mat& bgr, const cv::Ma
     throw Error(fmt::format("dense: image is {}x{} but the camera is {}x{}", depth_m.cols, depth_m.rows, ray_x_.cols, ray_x_.rows));
   const cv::Mat excluded = ExclusionMask(dynamic_mask, depth_m.size());
   KeyframeObservation observation;
-  observation.points_cam = BackprojectPixels(bgr, depth_m, excluded);
+  observation.points_cam = BackprojectPixels(bgr, depth_m, excluded | DepthEdges(depth_m));
   observation.rays = SampleRays(depth_m, excluded);
   return observation;
 }

@@ -43,7 +43,10 @@ class DepthBackprojector {
 
   // The mask actually applied: `dynamic_mask` dilated (empty mask -> all zeros).
   cv::Mat ExclusionMask(const cv::Mat& dynamic_mask, cv::Size size) const;
+  // CV_8U, 1 = valid pixel on the near side of a depth edge (DenseOptions::edge_filter_px, edge_jump_ratio).
+  cv::Mat DepthEdges(const cv::Mat& depth_m) const;
   int ray_stride() const { return ray_stride_; }
+  const PinholeCamera& camera() const { return camera_; }
 
  private:
   PointCloud BackprojectPixels(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& excluded) const;

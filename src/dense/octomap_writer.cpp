@@ -5,6 +5,7 @@
 #include <octomap/OcTree.h>
 
 #include "common/error.h"
+#include "dense/free_space.h"
 
 namespace esdslam {
 
@@ -44,12 +45,49 @@ std::size_t InsertKeyframeRays(octomap::OcTree* tree, const DenseMap& map, const
   return endpoints.size();
 }
 
+// Free-space consistency of the occupied cells (dense/free_space.h), keyframe by keyframe in id
+// order with the keyframes' ray depths: a cell that later keyframes see through loses its
+// evidence and is set free. Returns the number of cells freed.
+std::size_t CarveOccupiedCells(octomap::OcTree* tree, const DenseMap& map, const std::vector<PosedRays>& keyframes) {
+  std::vector<octomap::OcTreeKey> keys;
+  std::vector<Eigen::Vector3f> centres;
+  for (auto it = tree->begin_leafs(); it != tree->end_leafs(); ++it) {
+    if (!tree->isNodeOccupied(*it)) continue;
+    keys.push_back(it.getKey());
+    const octomap::point3d c = it.getCoordinate();
+    centres.emplace_back(c.x(), c.y(), c.z());
+  }
+  const float extent = 0.87f * static_cast<float>(tree->getResolution());  // half the cell diagonal
+  const int max_evidence = map.options().free_space_max_evidence;
+  std::vector<std::uint8_t> evidence(keys.size(), 0);
+  std::vector<bool> freed(keys.size(), false);
+  for (const PosedRays& posed : keyframes) {
+    cv::Mat depth_m;
+    posed.rays.depth_mm.convertTo(depth_m, CV_32F, 0.001);
+    const FreeSpaceView view(map.camera(), posed.world_from_cam, depth_m, posed.rays.stride, map.options());
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      const FreeSpaceVerdict verdict = view.Classify(centres[i], extent);
+      if (!UpdateEvidence(verdict, max_evidence, &evidence[i])) freed[i] = true;
+      if (verdict == FreeSpaceVerdict::kSeen) freed[i] = false;  // seen again: a surface again
+    }
+  }
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    if (freed[i]) {
+      tree->setNodeValue(keys[i], tree->getClampingThresMinLog(), /*lazy_eval=*/true);
+      ++count;
+    }
+  return count;
+}
+
 }  // namespace
 
 OctomapStats WriteOctomap(const std::string& path, const DenseMap& map, const KeyframePoses& poses) {
   octomap::OcTree tree(map.options().octomap_resolution);
   OctomapStats stats;
-  for (const PosedRays& posed : map.RaysAt(poses)) stats.rays += InsertKeyframeRays(&tree, map, posed);
+  const std::vector<PosedRays> keyframes = map.RaysAt(poses);
+  for (const PosedRays& posed : keyframes) stats.rays += InsertKeyframeRays(&tree, map, posed);
+  if (map.options().free_space_carving) stats.carved_cells = CarveOccupiedCells(&tree, map, keyframes);
   tree.updateInnerOccupancy();
   for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
     ++stats.leaf_nodes;

@@ -3,7 +3,10 @@
 // dynamic pixels left out) are inserted with ray casting from that keyframe's camera centre at
 // its current pose, so the space between camera and surface is carved free (up to a noise margin
 // before the reading) and surfaces become occupied; readings beyond
-// DenseOptions::octomap_max_range only carve free space up to that range. Resolution: DenseOptions::octomap_resolution. Written as a binary .bt file (OctoMap's own
+// DenseOptions::octomap_max_range only carve free space up to that range. Then the
+// occupied cells get the dense points' free-space consistency (dense/free_space.h), keyframe by
+// keyframe with the keyframes' ray depths: a cell later keyframes see through is set free.
+// Resolution: DenseOptions::octomap_resolution. Written as a binary .bt file (OctoMap's own
 // format, readable by octovis and octomap::OcTree::readBinary).
 
 #include <string>
@@ -17,6 +20,7 @@ struct OctomapStats {
   std::size_t occupied_leaves = 0;
   std::size_t free_leaves = 0;
   std::size_t rays = 0;
+  std::size_t carved_cells = 0;  // occupied cells set free by later keyframes' free-space evidence
 };
 
 // Builds the tree from every keyframe of `map` at `poses` (resolved as DenseMap::Resolve does)

@@ -1,5 +1,7 @@
 #include "io/tum_sequence.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
@@ -174,6 +176,22 @@ RgbdImages LoadRgbd(const FrameEntry& frame, double depth_map_factor) {
                                  images.depth_m.rows, frame.rgb_path, images.bgr.cols, images.bgr.rows));
   }
   return images;
+}
+
+const FrameEntry* NearestFrame(const std::vector<FrameEntry>& frames, double timestamp, double max_dt) {
+  const auto it = std::lower_bound(frames.begin(), frames.end(), timestamp,
+                                   [](const FrameEntry& f, double t) { return f.timestamp < t; });
+  const FrameEntry* best = nullptr;
+  double best_dt = max_dt;
+  for (auto candidate : {it, it == frames.begin() ? it : std::prev(it)}) {
+    if (candidate == frames.end()) continue;
+    const double dt = std::abs(candidate->timestamp - timestamp);
+    if (dt <= best_dt) {
+      best_dt = dt;
+      best = &*candidate;
+    }
+  }
+  return best;
 }
 
 }  // namespace esdslam

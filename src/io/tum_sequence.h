@@ -55,4 +55,8 @@ struct RgbdImages {
 // (colour must be 8-bit 1/3/4 channels, depth 16-bit single channel) or the sizes differ.
 RgbdImages LoadRgbd(const FrameEntry& frame, double depth_map_factor);
 
+// The frame (sorted by timestamp) whose rgb timestamp is nearest to `timestamp` (seconds), or
+// nullptr when none is within max_dt.
+const FrameEntry* NearestFrame(const std::vector<FrameEntry>& frames, double timestamp, double max_dt);
+
 }  // namespace esdslam

@@ -45,6 +45,9 @@ void SynthOptions::Check() const {
     throw Error(fmt::format("synth: |depth_time_offset| must be < 0.02 s (got {})", depth_time_offset));
   if (supersampling < 1 || supersampling > 4) throw Error("synth: supersampling must be in 1..4");
   if (!(texel_m >= 0.001 && texel_m <= 0.02)) throw Error("synth: texel_m must be in [0.001, 0.02] m");
+  if (moved_box < -1) throw Error(fmt::format("synth: moved_box must be -1 (none) or a furniture index (got {})", moved_box));
+  if (moved_box >= 0 && (!moved_box_offset.allFinite() || moved_box_offset.norm() > 5.0 || !std::isfinite(moved_box_time)))
+    throw Error("synth: moved_box_offset must be finite and at most 5 m, moved_box_time finite");
 }
 
 SynthOptions SynthPreset(const std::string& name) {
@@ -85,7 +88,13 @@ SynthOptions SynthPreset(const std::string& name) {
     options.supersampling = 1;  // the sensor noise hides most aliasing; rendering 4x faster
     return options;
   }
-  throw Error(fmt::format("synth: unknown preset '{}' (expected static, dynamic, loop, orbit or corridor)", name));
+  if (name == "moved_box") {
+    options.moved_box = 3;  // the crate on the north wall (synth_layout.cpp)
+    options.moved_box_time = 0.5 * (options.num_frames - 1) / options.fps;
+    options.moved_box_offset = Vec3(-0.9, -0.5, 0.0);
+    return options;
+  }
+  throw Error(fmt::format("synth: unknown preset '{}' (expected static, dynamic, loop, orbit, corridor or moved_box)", name));
 }
 
 }  // namespace esdslam

@@ -39,6 +39,12 @@ struct SynthOptions {
   double depth_time_offset = 0.0;   // depth timestamps = rgb timestamps + this; |offset| < 0.02 s
   int supersampling = 2;            // colour samples per pixel per axis (anti-aliasing), 1..4
   double texel_m = 0.004;           // texture resolution of the room surfaces, metres per texel
+  // A static piece of furniture moved once (a chair pushed away): furniture piece `moved_box`
+  // (index into the layout's furniture, -1 = none) jumps by moved_box_offset (metres, world
+  // frame) at moved_box_time seconds after frame 0, and stays there.
+  int moved_box = -1;
+  double moved_box_time = 0.0;
+  Vec3 moved_box_offset = Vec3::Zero();
 
   // Throws esdslam::Error on invalid values.
   void Check() const;
@@ -49,7 +55,8 @@ struct SynthOptions {
 // Named presets: "static" (arc, no movers, 240 frames), "dynamic" (arc, 3 movers, 240 frames),
 // "loop" (closed loop, no movers, 450 frames), "orbit" (1.35 turns around the room centre, 607
 // frames, depth noise 0.008 z^2), "corridor" (1.3 turns along a 23 m ring corridor, 781 frames,
-// depth and image noise: the loop-closing benchmark). Throws Error on an unknown name.
+// depth and image noise: the loop-closing benchmark), "moved_box" (static arc, 240 frames, the crate
+// on the north wall moved 0.9 m west and 0.5 m into the room half way). Throws Error on an unknown name.
 SynthOptions SynthPreset(const std::string& name);
 
 }  // namespace esdslam

@@ -6,6 +6,7 @@
 
 #include <opencv2/core/utility.hpp>
 
+#include "common/error.h"
 #include "synth/synth_layout.h"
 
 namespace esdslam {
@@ -105,6 +106,8 @@ void SyntheticScene::BuildStaticScene(std::mt19937& rng) {
     static_centres_.push_back(piece.centre);
   }
   first_mover_box_ = static_cast<int>(boxes_.size());
+  if (options_.moved_box >= static_cast<int>(layout.furniture.size()))
+    throw Error(fmt::format("synth: moved_box {} but the layout has {} pieces of furniture", options_.moved_box, layout.furniture.size()));
 }
 
 void SyntheticScene::BuildMovers(std::mt19937& rng) {
@@ -142,7 +145,10 @@ std::vector<StampedPose> SyntheticScene::GroundTruth() const {
 }
 
 Rigid3 SyntheticScene::WorldFromBox(int box, double time) const {
-  if (box < first_mover_box_) return Rigid3(Quat::Identity(), static_centres_[box]);
+  if (box < first_mover_box_) {
+    const bool moved = options_.moved_box >= 0 && box == options_.moved_box + 1 && time >= options_.moved_box_time;  // box 0: room
+    return Rigid3(Quat::Identity(), static_centres_[box] + (moved ? options_.moved_box_offset : Vec3::Zero()));
+  }
   const int mover = box - first_mover_box_;
   return Rigid3(Quat::Identity(), MoverCentreAt(mover_paths_[mover], boxes_[box].half_size, time));
 }

@@ -58,7 +58,8 @@ class SyntheticScene {
   std::vector<StampedPose> GroundTruth() const;  // one pose per frame, rgb timestamps
 
   const std::vector<TexturedBox>& boxes() const { return boxes_; }
-  // Pose of box `box` at `time` (seconds since frame 0); static boxes ignore time.
+  // Pose of box `box` at `time` (seconds since frame 0); static boxes ignore time, except the
+  // moved one (SynthOptions::moved_box).
   Rigid3 WorldFromBox(int box, double time) const;
   // Index into boxes() of mover k (1-based).
   int MoverBox(int mover_id) const { return first_mover_box_ + mover_id - 1; }

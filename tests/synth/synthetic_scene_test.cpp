@@ -322,3 +322,39 @@ TEST(SyntheticScene, CorridorWalksAroundTheRingAndRevisitsItsStartAfterOneTurn) 
 
 }  // namespace
 }  // namespace esdslam
+
+namespace esdslam {
+namespace {
+
+// The moved box is at its first place before moved_box_time and at first place + offset from then
+// on; the crate is in view before and after, and the space it left shows the wall behind.
+TEST(SyntheticScene, MovedBoxJumpsOnceAndTheSpaceItLeftIsSeenEmpty) {
+  SynthOptions options = SynthPreset("moved_box");
+  options.num_frames = 60;
+  options.moved_box_time = 1.0;
+  const SyntheticScene scene(options);
+  const int box = options.moved_box + 1;  // box 0 is the room
+  const Vec3 before = scene.WorldFromBox(box, 0.99).translation(), after = scene.WorldFromBox(box, 1.0).translation();
+  EXPECT_LT((after - before - options.moved_box_offset).norm(), 1e-12);
+  EXPECT_LT((scene.WorldFromBox(box, 1.9).translation() - after).norm(), 1e-12);
+  EXPECT_LT((scene.WorldFromBox(box + 1, 1.9).translation() - scene.WorldFromBox(box + 1, 0.0).translation()).norm(), 1e-12);
+  // A ray from a late frame's camera through the crate's first centre reaches beyond it.
+  const Rigid3 late = scene.WorldFromCam(59);
+  const Vec3 dir = (before - late.translation()).normalized();
+  const double distance = (before - late.translation()).norm();
+  EXPECT_GT(scene.CastRay(late.translation(), dir, scene.FrameTime(59)).t, distance + 0.2);
+  EXPECT_LT(scene.CastRay(late.translation(), dir, 0.0).t, distance);  // at frame 0 the crate is there
+  int crate_pixels = 0;
+  for (const int frame : {0, 59}) {
+    const cv::Mat ids = scene.RenderFrame(frame).surface_id;
+    crate_pixels = 0;
+    for (int v = 0; v < ids.rows; ++v)
+      for (int u = 0; u < ids.cols; ++u) crate_pixels += ids.at<int>(v, u) / 6 == box;
+    EXPECT_GT(crate_pixels, 1000) << "frame " << frame;
+  }
+  options.moved_box = 99;
+  EXPECT_THROW(SyntheticScene{options}, Error);
+}
+
+}  // namespace
+}  // namespace esdslam
