@@ -12,6 +12,9 @@
 
 namespace esdslam {
 
+// What PushDropOldest did with the item.
+enum class DropOldestPush { kQueued, kQueuedDroppedOldest, kClosed };
+
 template <typename T>
 class BoundedQueue {
  public:
@@ -27,15 +30,15 @@ class BoundedQueue {
     return true;
   }
 
-  // Never blocks: if full, drops the oldest item (for "newest wins" hand-offs). Returns false
-  // if closed.
-  bool PushDropOldest(T item) {
+  // Never blocks: if full, drops the oldest item (for "newest wins" hand-offs).
+  DropOldestPush PushDropOldest(T item) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (closed_) return false;
-    if (items_.size() >= capacity_) items_.pop_front();
+    if (closed_) return DropOldestPush::kClosed;
+    const bool full = items_.size() >= capacity_;
+    if (full) items_.pop_front();
     items_.push_back(std::move(item));
     not_empty_.notify_one();
-    return true;
+    return full ? DropOldestPush::kQueuedDroppedOldest : DropOldestPush::kQueued;
   }
 
   // Blocks while empty and open. Returns nullopt once closed and drained.

@@ -24,21 +24,30 @@ double ThreadCpuMs() {
 
 DenseMapper::DenseMapper(const PinholeCamera& camera, const DenseOptions& options, KeyframePoseSource poses,
                          const DenseMapperOptions& mapper_options)
-    : map_(camera, options), poses_(std::move(poses)), mapper_options_(mapper_options), queue_(mapper_options.queue_capacity) {
+    : map_(camera, options),
+      poses_(std::move(poses)),
+      mapper_options_(mapper_options),
+      worker_("dense mapping", ThreadedOrInline(mapper_options.threaded), mapper_options.queue_capacity,
+              [this](const DenseKeyframe& keyframe) { Process(keyframe); }) {
   if (!mapper_options_.mask_dir.empty()) std::filesystem::create_directories(mapper_options_.mask_dir);
-  if (mapper_options_.threaded) worker_ = std::thread([this] { WorkerLoop(); });
+  worker_.Start();
 }
 
-DenseMapper::~DenseMapper() { Finish(); }
+DenseMapper::~DenseMapper() {
+  try {
+    Finish();
+  } catch (const std::exception&) {  // logged when it happened
+  }
+}
 
 void DenseMapper::AddKeyframe(DenseKeyframe keyframe) {
-  if (!mapper_options_.threaded) {
-    Process(keyframe);
-    return;
-  }
   const Stopwatch watch;
   const long id = keyframe.id;
-  if (!queue_.Push(std::move(keyframe))) spdlog::warn("dense: keyframe {} arrived after Finish(); ignored", id);
+  if (!worker_.Push(std::move(keyframe))) spdlog::warn("dense: keyframe {} arrived after Finish(); ignored", id);
+  if (!worker_.threaded()) {
+    worker_.Drain();  // integrated now, on this thread
+    return;
+  }
   const double ms = watch.ElapsedMs();
   std::lock_guard<std::mutex> lock(stats_mutex_);
   handoff_total_ms_ += ms;
@@ -46,10 +55,7 @@ void DenseMapper::AddKeyframe(DenseKeyframe keyframe) {
   ++handoffs_;
 }
 
-void DenseMapper::Finish() {
-  queue_.Close();
-  if (worker_.joinable()) worker_.join();
-}
+void DenseMapper::Finish() { worker_.Close(); }
 
 KeyframePoses DenseMapper::CurrentPoses() const { return map_.Resolve(poses_ ? poses_() : KeyframePoses{}); }
 
@@ -81,7 +87,7 @@ void DenseMapper::Process(const DenseKeyframe& keyframe) {
   const KeyframePoses poses = poses_ ? poses_() : KeyframePoses{};
   const double pose_ms = watch.ElapsedMs();
   // Keyframes waiting: the dense thread is behind, so it re-indexes only keyframes that moved a voxel.
-  map_.Integrate(keyframe, poses, mapper_options_.threaded && queue_.Size() > 0);
+  map_.Integrate(keyframe, poses, worker_.threaded() && worker_.Queued() > 0);
   const double ms = watch.ElapsedMs();
   const double cpu_ms = ThreadCpuMs() - cpu_start;
   if (!mapper_options_.mask_dir.empty()) {
@@ -95,16 +101,6 @@ void DenseMapper::Process(const DenseKeyframe& keyframe) {
   cpu_ms_ += cpu_ms;
   max_ms_ = std::max(max_ms_, ms);
   ++processed_;
-}
-
-void DenseMapper::WorkerLoop() {
-  while (auto keyframe = queue_.Pop()) {
-    try {
-      Process(*keyframe);
-    } catch (const std::exception& e) {
-      spdlog::error("dense: keyframe {} skipped: {}", keyframe->id, e.what());
-    }
-  }
 }
 
 }  // namespace esdslam

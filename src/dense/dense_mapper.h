@@ -1,6 +1,6 @@
 #pragma once
 // Builds the static dense map off the tracking thread. Keyframes (colour, depth, dynamic mask)
-// go through a bounded queue to one worker thread that back-projects them into the DenseMap;
+// go through a Worker (common/worker.h) to its thread, which back-projects them into the DenseMap;
 // tracking only pays for the hand-off (a queue push of shared images), so its time does not grow
 // with the map.
 //
@@ -9,6 +9,9 @@
 // spanning-tree parent). The worker calls it before integrating each keyframe, so points merge at
 // up-to-date poses; on-demand builds call it too. Without a source, hand-off poses are used.
 //
+// Errors: a keyframe that fails is logged and the worker goes on with the next; the first error
+// is rethrown by the next AddKeyframe and by Finish.
+//
 // Threads and locks: producers call AddKeyframe; the worker pops the queue; any thread may call
 // the on-demand methods (CurrentPoses, CurrentCloud, WriteOutputs, stats) at any time, also
 // while the worker runs (they see the keyframes integrated so far). The pose source is always
@@ -16,10 +19,10 @@
 // queue and the DenseMap each have their own lock, never held together.
 
 #include <functional>
+#include <mutex>
 #include <string>
-#include <thread>
 
-#include "common/bounded_queue.h"
+#include "common/worker.h"
 #include "dense/dense_map.h"
 #include "dense/dense_outputs.h"
 
@@ -53,8 +56,11 @@ class DenseMapper {
   DenseMapper(const DenseMapper&) = delete;
   DenseMapper& operator=(const DenseMapper&) = delete;
 
+  // Threaded: queues the keyframe (blocks while queue_capacity wait); otherwise integrates it now.
+  // Throws Error when an earlier keyframe failed.
   void AddKeyframe(DenseKeyframe keyframe);
-  // Waits until every queued keyframe is in the map and stops the worker. Idempotent.
+  // Waits until every queued keyframe is in the map and stops the worker. Idempotent. Throws
+  // Error when a keyframe failed (the others are in the map).
   void Finish();
 
   // On demand (any thread, any time): the current poses (source, else hand-off), the global cloud
@@ -68,18 +74,16 @@ class DenseMapper {
 
  private:
   void Process(const DenseKeyframe& keyframe);
-  void WorkerLoop();
 
   DenseMap map_;
   KeyframePoseSource poses_;
   DenseMapperOptions mapper_options_;
-  BoundedQueue<DenseKeyframe> queue_;
-  std::thread worker_;
   mutable std::mutex stats_mutex_;
   double total_ms_ = 0, max_ms_ = 0, pose_ms_ = 0, cpu_ms_ = 0;
   long processed_ = 0;
   double handoff_total_ms_ = 0, handoff_max_ms_ = 0;
   long handoffs_ = 0;
+  Worker<DenseKeyframe> worker_;  // last: stopped before the state its handler uses
 };
 
 }  // namespace esdslam

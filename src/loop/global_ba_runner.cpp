@@ -9,37 +9,33 @@ namespace esdslam {
 
 GlobalBaRunner::GlobalBaRunner(Map* map, MappingControl* mapping, const GlobalBundleAdjustmentOptions& options,
                                bool threaded)
-    : map_(map), mapping_(mapping), options_(options), threaded_(threaded) {
+    : map_(map),
+      mapping_(mapping),
+      options_(options),
+      worker_("global bundle adjustment", ThreadedOrInline(threaded), 1, [this](long id) { Run(id); }) {
   options_.Check();
+  worker_.Start();
 }
 
-GlobalBaRunner::~GlobalBaRunner() { Abort(); }
+GlobalBaRunner::~GlobalBaRunner() { stop_ = true; }  // the worker then finishes it early and joins
 
 void GlobalBaRunner::Start(long loop_keyframe_id) {
-  Join();
+  worker_.Drain();
   stop_ = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ++stats_.started;
   }
-  if (threaded_) worker_ = std::thread([this, loop_keyframe_id] { Run(loop_keyframe_id); });
-  else Run(loop_keyframe_id);
+  worker_.Push(loop_keyframe_id);
+  if (!worker_.threaded()) worker_.Drain();
 }
 
 void GlobalBaRunner::Abort() {
   stop_ = true;
-  Join();
+  worker_.Drain();
 }
 
-void GlobalBaRunner::Wait() {
-  Join();
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (!error_.empty()) throw Error("global bundle adjustment failed: " + error_);
-}
-
-void GlobalBaRunner::Join() {
-  if (worker_.joinable()) worker_.join();
-}
+void GlobalBaRunner::Close() { worker_.Close(); }
 
 GlobalBaStats GlobalBaRunner::stats() const {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -48,42 +44,36 @@ GlobalBaStats GlobalBaRunner::stats() const {
 
 // The table of contents of one global BA.
 void GlobalBaRunner::Run(long loop_keyframe_id) {
-  try {
-    Stopwatch watch;
-    GlobalBaSnapshot snapshot;
-    {
-      std::lock_guard<std::mutex> lock(map_->update_mutex());
-      snapshot = BuildGlobalBundleAdjustment(*map_);
-    }
-    const BaSummary solve = SolveGlobalBundleAdjustment(options_, &snapshot, &stop_);
-    if (solve.aborted || stop_) {
-      spdlog::info("loop: global BA after loop at keyframe {} aborted", loop_keyframe_id);
-      std::lock_guard<std::mutex> lock(mutex_);
-      ++stats_.aborted;
-      return;
-    }
-    GlobalBaMergeSummary merge;
-    {
-      MappingPause pause(mapping_);
-      std::lock_guard<std::mutex> lock(map_->update_mutex());
-      merge = MergeGlobalBundleAdjustment(map_, snapshot);
-    }
-    const double ms = watch.ElapsedMs();
-    spdlog::info("loop: global BA after loop at keyframe {}: {} keyframes, {} points, cost {:.4g} -> {:.4g}, "
-                 "{} keyframes / {} points created meanwhile corrected, {:.0f} ms",
-                 loop_keyframe_id, merge.keyframes_solved, merge.points_solved, solve.initial_cost, solve.final_cost,
-                 merge.keyframes_propagated, merge.points_propagated, ms);
-    std::lock_guard<std::mutex> lock(mutex_);
-    ++stats_.completed;
-    stats_.total_ms += ms;
-    stats_.last_ms = ms;
-    stats_.last_keyframes = merge.keyframes_solved;
-    stats_.last_points = merge.points_solved;
-  } catch (const std::exception& e) {
-    spdlog::error("loop: global BA failed: {}", e.what());
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (error_.empty()) error_ = e.what();
+  Stopwatch watch;
+  GlobalBaSnapshot snapshot;
+  {
+    std::lock_guard<std::mutex> lock(map_->update_mutex());
+    snapshot = BuildGlobalBundleAdjustment(*map_);
   }
+  const BaSummary solve = SolveGlobalBundleAdjustment(options_, &snapshot, &stop_);
+  if (solve.aborted || stop_) {
+    spdlog::info("loop: global BA after loop at keyframe {} aborted", loop_keyframe_id);
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++stats_.aborted;
+    return;
+  }
+  GlobalBaMergeSummary merge;
+  {
+    MappingPause pause(mapping_);
+    std::lock_guard<std::mutex> lock(map_->update_mutex());
+    merge = MergeGlobalBundleAdjustment(map_, snapshot);
+  }
+  const double ms = watch.ElapsedMs();
+  spdlog::info("loop: global BA after loop at keyframe {}: {} keyframes, {} points, cost {:.4g} -> {:.4g}, "
+               "{} keyframes / {} points created meanwhile corrected, {:.0f} ms",
+               loop_keyframe_id, merge.keyframes_solved, merge.points_solved, solve.initial_cost, solve.final_cost,
+               merge.keyframes_propagated, merge.points_propagated, ms);
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++stats_.completed;
+  stats_.total_ms += ms;
+  stats_.last_ms = ms;
+  stats_.last_keyframes = merge.keyframes_solved;
+  stats_.last_points = merge.points_solved;
 }
 
 }  // namespace esdslam

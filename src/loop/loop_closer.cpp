@@ -1,5 +1,6 @@
 #include "loop/loop_closer.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <spdlog/spdlog.h>
@@ -27,10 +28,10 @@ LoopCloser::LoopCloser(Map* map, PlaceRecognition* places, MappingControl* mappi
       places_(places),
       mapping_(mapping),
       options_(options),
-      threaded_(threaded),
-      queue_(options.queue_capacity),
       global_ba_(map, mapping, options.global_ba, threaded),
-      consistency_(options.consistency_threshold) {
+      consistency_(options.consistency_threshold),
+      worker_("loop closing", ThreadedOrInline(threaded), static_cast<std::size_t>(std::max(1, options.queue_capacity)),
+              [this](KeyFrame* keyframe) { ProcessKeyFrame(keyframe); }) {
   if (places_ == nullptr) throw Error("loop closing needs place recognition");
   options_.Check();
 }
@@ -43,56 +44,27 @@ LoopCloser::~LoopCloser() {
   }
 }
 
-void LoopCloser::Start() {
-  if (threaded_ && !worker_.joinable() && !closed_) worker_ = std::thread([this] { Run(); });
-}
+void LoopCloser::Start() { worker_.Start(); }
 
 void LoopCloser::InsertKeyFrame(KeyFrame* keyframe) {
-  if (!threaded_) {
-    sync_queue_.push_back(keyframe);
-    return;
-  }
-  const bool full = queue_.Size() >= static_cast<std::size_t>(options_.queue_capacity);
-  if (!queue_.PushDropOldest(keyframe)) return;  // closed: shutting down
-  if (full) {
-    std::lock_guard<std::mutex> lock(stats_mutex_);
-    ++stats_.keyframes_dropped;
-  }
+  if (worker_.PushDropOldest(keyframe) != DropOldestPush::kQueuedDroppedOldest) return;
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  ++stats_.keyframes_dropped;
 }
 
 void LoopCloser::ProcessQueued() {
-  while (!sync_queue_.empty()) {
-    KeyFrame* keyframe = sync_queue_.front();
-    sync_queue_.pop_front();
-    ProcessKeyFrame(keyframe);
-  }
+  worker_.Drain();
+  worker_.ThrowIfFailed();
 }
 
 void LoopCloser::Close() {
-  if (closed_) return;
-  closed_ = true;
-  if (threaded_) {
-    queue_.Close();
-    if (worker_.joinable()) worker_.join();
-    while (auto keyframe = queue_.TryPop()) ProcessKeyFrame(*keyframe);  // never started
-  } else {
-    ProcessQueued();
+  try {
+    worker_.Close();
+  } catch (const Error&) {
+    global_ba_.Close();  // a running global BA is still finished (result merged) and joined
+    throw;
   }
-  global_ba_.Wait();
-  std::lock_guard<std::mutex> lock(stats_mutex_);
-  if (!worker_error_.empty()) throw Error("loop closing failed: " + worker_error_);
-}
-
-void LoopCloser::Run() {
-  while (auto keyframe = queue_.Pop()) {
-    try {
-      ProcessKeyFrame(*keyframe);
-    } catch (const std::exception& e) {
-      spdlog::error("loop closing: keyframe {}: {}", (*keyframe)->id(), e.what());
-      std::lock_guard<std::mutex> lock(stats_mutex_);
-      if (worker_error_.empty()) worker_error_ = e.what();
-    }
-  }
+  global_ba_.Close();
 }
 
 LoopClosingStats LoopCloser::stats() const {

@@ -8,26 +8,23 @@
 //   correction    local mapping paused, Map::update_mutex held: current group corrected, loop
 //                 points fused, essential-graph optimisation (loop_correction.h);
 //   global BA     in its own thread (global_ba_runner.h), aborted by the next correction.
-// Threaded mode: Start() launches the worker; it waits on its queue's condition variables.
-// Synchronous mode: InsertKeyFrame only queues, the owner calls ProcessQueued() on its thread
-// (the global BA then runs there too): runs repeat exactly.
+// The keyframes go through a Worker (common/worker.h). Threaded mode: Start() launches its
+// thread. Synchronous mode: InsertKeyFrame only queues, the owner calls ProcessQueued() on its
+// thread (the global BA then runs there too): runs repeat exactly. A failure is reported by the
+// next InsertKeyFrame, ProcessQueued and Close.
 //
-// Shared data: the queue (its own mutex), statistics (stats_mutex_). Detection and verification
+// Shared data: the worker's queue (its own mutex), statistics (stats_mutex_). Detection and verification
 // read map objects through their per-object locks without Map::update_mutex (local mapping and
 // tracking go on); the keyframes involved are re-checked under the lock before correcting.
 // Lock order: MappingControl::Pause -> Map::update_mutex -> per-object locks; stats_mutex_ is
 // a leaf.
 
-#include <atomic>
-#include <deque>
 #include <memory>
 #include <mutex>
-#include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
-#include "common/bounded_queue.h"
+#include "common/worker.h"
 #include "loop/global_ba_runner.h"
 #include "loop/loop_consistency.h"
 #include "loop/loop_correction.h"
@@ -80,17 +77,18 @@ class LoopCloser {
   LoopCloser& operator=(const LoopCloser&) = delete;
 
   void Start();
-  // From local mapping; never blocks.
+  // From local mapping; never blocks: when queue_capacity keyframes wait, the oldest is dropped.
+  // Ignored after Close(). Throws Error when loop closing failed.
   void InsertKeyFrame(KeyFrame* keyframe);
-  // Synchronous mode: processes the queued keyframes now (the caller must not hold the map lock).
+  // Synchronous mode: processes the queued keyframes now (the caller must not hold the map lock);
+  // threaded mode: waits until they are processed. Throws Error when loop closing failed.
   void ProcessQueued();
   // Processes every queued keyframe, waits for the global BA and joins. Idempotent. Throws Error
-  // when processing failed on a worker thread.
+  // when processing failed.
   void Close();
   LoopClosingStats stats() const;
 
  private:
-  void Run();
   void ProcessKeyFrame(KeyFrame* keyframe);
   std::vector<KeyFrame*> DetectConsistentCandidates(KeyFrame* keyframe);
   bool VerifyCandidates(KeyFrame* keyframe, const std::vector<KeyFrame*>& candidates, LoopMatch* match);
@@ -100,10 +98,6 @@ class LoopCloser {
   PlaceRecognition* places_;
   MappingControl* mapping_;
   LoopClosingOptions options_;
-  const bool threaded_;
-  BoundedQueue<KeyFrame*> queue_;
-  std::deque<KeyFrame*> sync_queue_;
-  std::thread worker_;
   GlobalBaRunner global_ba_;
   // Worker-owned state.
   LoopConsistency consistency_;
@@ -111,8 +105,7 @@ class LoopCloser {
   std::vector<std::pair<KeyFrame*, KeyFrame*>> loop_edges_;  // (loop, current) of closed loops
   mutable std::mutex stats_mutex_;
   LoopClosingStats stats_;
-  std::string worker_error_;
-  bool closed_ = false;
+  Worker<KeyFrame*> worker_;  // last: stopped before the state its handler uses
 };
 
 }  // namespace esdslam

@@ -1,6 +1,6 @@
 #include "mapping/local_mapper.h"
 
-#include <spdlog/spdlog.h>
+#include <algorithm>
 
 #include "common/error.h"
 #include "map/keyframe.h"
@@ -19,7 +19,11 @@ void LocalMapperOptions::Check() const {
 }
 
 LocalMapper::LocalMapper(Map* map, const LocalMapperOptions& options, bool threaded)
-    : map_(map), options_(options), threaded_(threaded), queue_(options.queue_capacity) {
+    : map_(map),
+      options_(options),
+      threaded_(threaded),
+      worker_("local mapping", ThreadedOrInline(threaded), static_cast<std::size_t>(std::max(1, options.queue_capacity)),
+              [this](KeyFrame* keyframe) { HandleKeyFrame(keyframe); }) {
   options_.Check();
 }
 
@@ -30,14 +34,10 @@ LocalMapper::~LocalMapper() {
   }
 }
 
-void LocalMapper::Start() {
-  if (threaded_ && !worker_.joinable() && !closed_) worker_ = std::thread([this] { Run(); });
-}
+void LocalMapper::Start() { worker_.Start(); }
 
-bool LocalMapper::AcceptsKeyFrames() const { return !threaded_ || (idle_ && in_flight_ == 0); }
-int LocalMapper::QueuedKeyFrames() const {
-  return threaded_ ? static_cast<int>(queue_.Size()) : static_cast<int>(sync_queue_.size());
-}
+bool LocalMapper::AcceptsKeyFrames() const { return !threaded_ || in_flight_ == 0; }
+int LocalMapper::QueuedKeyFrames() const { return static_cast<int>(worker_.Queued()); }
 
 bool LocalMapper::ReserveKeyFrame() {
   std::lock_guard<std::mutex> lock(pause_mutex_);
@@ -54,11 +54,14 @@ void LocalMapper::InsertKeyFrame(KeyFrame* keyframe) {
     if (reserved_ > 0) --reserved_;
     else in_flight_ = ++in_flight_locked_;
   }
-  if (!threaded_) {
-    sync_queue_.push_back(keyframe);
-    return;
+  bool queued = false;
+  try {
+    queued = worker_.Push(keyframe);
+  } catch (const Error&) {
+    FinishKeyFrame();  // local mapping failed: this keyframe never comes
+    throw;
   }
-  if (!queue_.Push(keyframe)) {
+  if (!queued) {
     FinishKeyFrame();
     throw Error("local mapping: keyframe inserted after Close()");
   }
@@ -90,47 +93,22 @@ void LocalMapper::Resume() {
 }
 
 void LocalMapper::ProcessQueued() {
-  while (!sync_queue_.empty()) {
-    KeyFrame* keyframe = sync_queue_.front();
-    sync_queue_.pop_front();
-    ProcessKeyFrame(keyframe);
-    FinishKeyFrame();
-  }
+  worker_.Drain();
+  worker_.ThrowIfFailed();
 }
 
 void LocalMapper::Close(bool drop_pending) {
-  if (closed_) return;
-  closed_ = true;
-  drop_pending_ = drop_pending;
-  if (threaded_) {
-    queue_.Close();
-    if (worker_.joinable()) worker_.join();
-    // Never started: drain here so the map stays consistent.
-    while (auto keyframe = queue_.TryPop()) {
-      ProcessKeyFrame(*keyframe);
-      FinishKeyFrame();
-    }
-  } else {
-    ProcessQueued();
-  }
-  std::lock_guard<std::mutex> lock(stats_mutex_);
-  if (!worker_error_.empty()) throw Error("local mapping failed: " + worker_error_);
+  if (drop_pending) drop_pending_ = true;
+  worker_.Close();
 }
 
-void LocalMapper::Run() {
-  while (auto keyframe = queue_.Pop()) {
-    idle_ = false;
-    try {
-      ProcessKeyFrame(*keyframe);
-    } catch (const std::exception& e) {
-      // Reported by Close(); later keyframes are still inserted so that the map stays usable.
-      spdlog::error("local mapping: keyframe {}: {}", (*keyframe)->id(), e.what());
-      std::lock_guard<std::mutex> lock(stats_mutex_);
-      if (worker_error_.empty()) worker_error_ = e.what();
-    }
-    FinishKeyFrame();
-    idle_ = true;
-  }
+void LocalMapper::HandleKeyFrame(KeyFrame* keyframe) {
+  // Finished also when processing throws (the worker keeps the error), so that Pause returns.
+  struct Finish {
+    LocalMapper* mapper;
+    ~Finish() { mapper->FinishKeyFrame(); }
+  } finish{this};
+  ProcessKeyFrame(keyframe);
 }
 
 bool LocalMapper::MoreWaiting() const { return QueuedKeyFrames() > 0 && !drop_pending_; }

@@ -3,11 +3,13 @@
 // bounded queue and, for each, inserts it into the map, culls recent points, creates new points
 // with its neighbours, fuses duplicates, runs local BA and culls redundant keyframes.
 //
-// Threaded mode: Start() launches the worker; it waits on the queue's condition variables (no
-// polling). Synchronous mode: InsertKeyFrame only queues; the owner calls ProcessQueued() on its
-// own thread (deterministic runs and tests). Close() processes every queued keyframe (or, with
+// The keyframes go through a Worker (common/worker.h): threaded mode runs them on its thread
+// (Start()), synchronous mode only queues them and the owner calls ProcessQueued() on its own
+// thread (deterministic runs and tests). Close() processes every queued keyframe (or, with
 // drop_pending, only inserts them into the map without further work) and joins the worker.
-// Each processed keyframe is handed to the downstream consumer (loop closing), if set.
+// Each processed keyframe is handed to the downstream consumer (loop closing), if set. A failure
+// is reported by the next InsertKeyFrame, ProcessQueued and Close; later keyframes are still
+// processed, so the map stays usable.
 //
 // Pause (MappingControl, for loop closing and the global BA merge): new reservations are refused
 // and Pause returns once every reserved or inserted keyframe has been processed; tracking creates
@@ -15,14 +17,11 @@
 
 #include <atomic>
 #include <condition_variable>
-#include <deque>
 #include <functional>
 #include <mutex>
-#include <string>
-#include <thread>
 #include <vector>
 
-#include "common/bounded_queue.h"
+#include "common/worker.h"
 #include "map/keyframe_sink.h"
 #include "map/map.h"
 #include "mapping/mapping_steps.h"
@@ -67,22 +66,24 @@ class LocalMapper : public KeyFrameSink, public MappingControl {
   void InterruptBundleAdjustment() override { abort_ba_ = true; }
   bool ReserveKeyFrame() override;
   // Without a prior reservation the keyframe counts as reserved now (even during a pause).
+  // Throws Error after Close() or when local mapping failed.
   void InsertKeyFrame(KeyFrame* keyframe) override;
 
   void Pause() override;
   void Resume() override;
 
   // Synchronous mode: processes every queued keyframe now, on the caller's thread (which must not
-  // hold the map update mutex).
+  // hold the map update mutex); threaded mode: waits until they are processed. Throws Error if
+  // local mapping failed.
   void ProcessQueued();
   // Stops accepting keyframes, processes (or with drop_pending only inserts) the queued ones and
-  // joins the worker. Idempotent. Throws Error if processing failed on the worker thread.
+  // joins the worker. Idempotent. Throws Error if processing failed.
   void Close(bool drop_pending = false);
 
   LocalMapperStats stats() const;
 
  private:
-  void Run();
+  void HandleKeyFrame(KeyFrame* keyframe);  // the worker's handler: process, then finish
   void ProcessKeyFrame(KeyFrame* keyframe);
   void FinishKeyFrame();  // one in-flight keyframe done
   bool MoreWaiting() const;
@@ -90,10 +91,6 @@ class LocalMapper : public KeyFrameSink, public MappingControl {
   Map* map_;
   LocalMapperOptions options_;
   const bool threaded_;
-  BoundedQueue<KeyFrame*> queue_;
-  std::deque<KeyFrame*> sync_queue_;  // synchronous mode
-  std::thread worker_;
-  std::atomic<bool> idle_{true};
   std::atomic<bool> abort_ba_{false};
   std::atomic<bool> drop_pending_{false};
   std::function<void(KeyFrame*)> downstream_;
@@ -108,8 +105,7 @@ class LocalMapper : public KeyFrameSink, public MappingControl {
   std::vector<MapPoint*> recent_points_;  // worker-owned
   mutable std::mutex stats_mutex_;
   LocalMapperStats stats_;
-  std::string worker_error_;  // first exception caught on the worker thread (under stats_mutex_)
-  bool closed_ = false;
+  Worker<KeyFrame*> worker_;  // last: stopped before the state its handler uses
 };
 
 }  // namespace esdslam

@@ -25,9 +25,11 @@ void SegmentationWorkerOptions::Check() const {
 SegmentationWorker::SegmentationWorker(std::unique_ptr<Segmenter> segmenter, SegmentationWorkerOptions options)
     : segmenter_(std::move(segmenter)),
       options_((options.Check(), options)),
-      queue_(options.mode == SegmentationMode::kNewestWins ? 1 : static_cast<std::size_t>(options.queue_capacity)) {
+      worker_("segmentation", WorkerMode::kThread,
+              options.mode == SegmentationMode::kNewestWins ? 1 : static_cast<std::size_t>(options.queue_capacity),
+              [this](Job& job) { Segment(job); }) {
   if (!segmenter_) throw Error("SegmentationWorker needs a segmenter");
-  thread_ = std::thread([this] { Run(); });
+  worker_.Start();
 }
 
 SegmentationWorker::~SegmentationWorker() { Stop(); }
@@ -38,44 +40,57 @@ bool SegmentationWorker::Submit(SegmentationFrame frame) {
   if (last_submitted_id_ && frame.id <= *last_submitted_id_)
     throw Error(fmt::format("segmentation frame ids must increase ({} after {})", frame.id, *last_submitted_id_));
   last_submitted_id_ = frame.id;
-  Job job{std::move(frame), NowMs()};
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    ThrowIfFailed();     // as soon as WaitFor would (the worker may not have recorded it yet)
     ++stats_.submitted;  // counted before the push so that processed <= submitted at all times
   }
-  const bool accepted = options_.mode == SegmentationMode::kNewestWins ? queue_.PushDropOldest(std::move(job))
-                                                                       : queue_.Push(std::move(job));
-  if (!accepted) {
+  const auto uncount = [this] {
     std::lock_guard<std::mutex> lock(mutex_);
     --stats_.submitted;
+  };
+  bool accepted = false;
+  try {
+    accepted = Enqueue({std::move(frame), NowMs()});
+  } catch (const Error&) {  // segmentation failed
+    uncount();
+    throw;
   }
+  if (!accepted) uncount();
   return accepted;
 }
 
-void SegmentationWorker::Run() {
-  while (std::optional<Job> job = queue_.Pop()) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      in_progress_ = true;
-    }
-    SegmentedFrame done;
-    done.id = job->frame.id;
-    done.timestamp = job->frame.timestamp;
-    try {
-      done.result = segmenter_->Segment(job->frame.bgr, job->frame.timestamp);
-    } catch (const std::exception& e) {
-      spdlog::error("segmentation of frame {} failed: {}", done.id, e.what());
-      std::lock_guard<std::mutex> lock(mutex_);
-      failure_ = fmt::format("segmentation of frame {} (t={:.6f}) failed: {}", done.id, done.timestamp, e.what());
-      break;
-    }
-    done.latency_ms = NowMs() - job->submit_ms;
-    spdlog::debug("segmentation: frame {} segment {:.1f} ms, latency {:.1f} ms", done.id, done.result.segment_ms,
-                  done.latency_ms);
-    Publish(std::move(done));
+bool SegmentationWorker::Enqueue(Job job) {
+  if (options_.mode == SegmentationMode::kNewestWins)
+    return worker_.PushDropOldest(std::move(job)) != DropOldestPush::kClosed;
+  return worker_.Push(std::move(job));
+}
+
+void SegmentationWorker::Segment(Job& job) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!failure_.empty()) return;  // after a failure no frame is segmented
+    in_progress_ = true;
   }
-  queue_.Close();  // after a failure, refuse further frames
+  SegmentedFrame done;
+  done.id = job.frame.id;
+  done.timestamp = job.frame.timestamp;
+  try {
+    done.result = segmenter_->Segment(job.frame.bgr, job.frame.timestamp);
+  } catch (const std::exception& e) {
+    const std::string what = fmt::format("frame {} (t={:.6f}): {}", done.id, done.timestamp, e.what());
+    Fail(what);
+    throw Error(what);  // the worker keeps it ("segmentation failed: ...") for Submit
+  }
+  done.latency_ms = NowMs() - job.submit_ms;
+  spdlog::debug("segmentation: frame {} segment {:.1f} ms, latency {:.1f} ms", done.id, done.result.segment_ms,
+                done.latency_ms);
+  Publish(std::move(done));
+}
+
+void SegmentationWorker::Fail(const std::string& what) {
   std::lock_guard<std::mutex> lock(mutex_);
+  failure_ = fmt::format("{} failed: {}", worker_.name(), what);  // as the worker words it
   finished_ = true;
   result_ready_.notify_all();
 }
@@ -117,18 +132,25 @@ std::optional<SegmentedFrame> SegmentationWorker::Latest() {
 }
 
 void SegmentationWorker::Stop() {
-  queue_.Close();
-  if (thread_.joinable()) {
-    thread_.join();
-    const SegmentationWorkerStats s = Stats();
-    spdlog::info("segmentation thread ({}): {} frames segmented, {} replaced, mean {:.1f} ms per frame, "
-                 "mean latency {:.1f} ms",
-                 segmenter_->Name(), s.processed, s.replaced, s.mean_segment_ms, s.mean_latency_ms);
+  if (stopped_) return;
+  stopped_ = true;
+  try {
+    worker_.Close();
+  } catch (const Error&) {  // reported by WaitFor, Latest and Submit
   }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    finished_ = true;
+    result_ready_.notify_all();
+  }
+  const SegmentationWorkerStats s = Stats();
+  spdlog::info("segmentation thread ({}): {} frames segmented, {} replaced, mean {:.1f} ms per frame, "
+               "mean latency {:.1f} ms",
+               segmenter_->Name(), s.processed, s.replaced, s.mean_segment_ms, s.mean_latency_ms);
 }
 
 SegmentationWorkerStats SegmentationWorker::Stats() const {
-  const auto waiting = static_cast<std::int64_t>(queue_.Size());
+  const auto waiting = static_cast<std::int64_t>(worker_.Queued());
   std::lock_guard<std::mutex> lock(mutex_);
   SegmentationWorkerStats s = stats_;
   if (failure_.empty())

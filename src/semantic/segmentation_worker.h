@@ -1,5 +1,7 @@
 #pragma once
-// The segmentation thread. Owns a Segmenter and runs it on submitted frames in its own thread.
+// The segmentation thread. Owns a Segmenter and runs it on submitted frames on its own thread (a
+// Worker, common/worker.h, always threaded: the order of results does not depend on timing in
+// every-frame mode, and real-time mode is about timing).
 //
 // Modes:
 //   kEveryFrame  every submitted frame is segmented, in order. Submit blocks while `queue_capacity`
@@ -10,7 +12,13 @@
 //                which returns nullopt for frames that were replaced.
 // Frame ids must increase with every Submit. Results are kept for the last `keep_results`
 // processed frames; their cv::Mats are shared, treat them as read-only.
-// If the segmenter throws, the worker stops and WaitFor / Latest rethrow the message as Error.
+// If the segmenter throws, no later frame is segmented; WaitFor / Latest / the next Submit throw
+// Error("segmentation failed: frame <id> (t=<timestamp>): <what>").
+//
+// Threads and locks: any thread may submit (submit_mutex_ serialises the id check and the push)
+// and wait. mutex_ guards the results and statistics; the segmenter runs without it. The two are
+// never held together except submit_mutex_ -> mutex_ (counting a submission) and
+// submit_mutex_ -> the worker's queue mutex (the push); the worker's thread takes mutex_ only.
 
 #include <condition_variable>
 #include <cstdint>
@@ -19,11 +27,10 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 
 #include <opencv2/core.hpp>
 
-#include "common/bounded_queue.h"
+#include "common/worker.h"
 #include "semantic/segmenter.h"
 
 namespace esdslam {
@@ -66,7 +73,7 @@ class SegmentationWorker {
   SegmentationWorker(const SegmentationWorker&) = delete;
   SegmentationWorker& operator=(const SegmentationWorker&) = delete;
 
-  // Returns false after Stop(). Throws Error if ids do not increase.
+  // Returns false after Stop(). Throws Error if ids do not increase or segmentation failed.
   bool Submit(SegmentationFrame frame);
 
   // Blocks until frame `id` is segmented. nullopt if it was replaced (kNewestWins), was never
@@ -75,7 +82,8 @@ class SegmentationWorker {
   // The most recent finished result, without waiting.
   std::optional<SegmentedFrame> Latest();
 
-  // Stops accepting frames, finishes the frames already queued, joins the thread. Idempotent.
+  // Stops accepting frames, finishes the frames already queued, joins the thread. Idempotent;
+  // does not throw (a failure is reported by WaitFor, Latest and Submit).
   void Stop();
 
   SegmentationWorkerStats Stats() const;
@@ -85,26 +93,28 @@ class SegmentationWorker {
     SegmentationFrame frame;
     double submit_ms;  // steady clock, milliseconds
   };
-  void Run();
+  void Segment(Job& job);  // the worker's handler
+  bool Enqueue(Job job);
+  void Fail(const std::string& what);  // wakes the waiters
   void Publish(SegmentedFrame done);
   void ThrowIfFailed() const;  // requires mutex_ held
 
   std::unique_ptr<Segmenter> segmenter_;
   const SegmentationWorkerOptions options_;
-  BoundedQueue<Job> queue_;
   std::mutex submit_mutex_;  // serialises Submit (id order check + queue push)
   std::optional<std::int64_t> last_submitted_id_;
+  bool stopped_ = false;     // Stop() ran (owner)
 
   mutable std::mutex mutex_;  // guards everything below
   std::condition_variable result_ready_;
   std::map<std::int64_t, SegmentedFrame> results_;
   std::optional<std::int64_t> last_processed_id_;
   bool in_progress_ = false;  // the thread is segmenting a frame
-  bool finished_ = false;     // the thread has exited
+  bool finished_ = false;     // no result will come any more (stopped or failed)
   std::string failure_;    // segmenter error message, empty if none
   SegmentationWorkerStats stats_;
 
-  std::thread thread_;
+  Worker<Job> worker_;  // last: stopped before the state its handler uses
 };
 
 }  // namespace esdslam

@@ -113,7 +113,12 @@ void Pipeline::Finish(const std::string& out_dir) {
   if (semantic_) semantic_->Stop();
   system_->Shutdown();
   if (!dense_) return;
-  dense_->Finish();
+  std::string dense_error;  // the keyframes integrated so far are still written
+  try {
+    dense_->Finish();
+  } catch (const Error& e) {
+    dense_error = e.what();
+  }
   const DenseOutputSummary summary = dense_->WriteOutputs(out_dir);
   WriteTumTrajectory(out_dir + "/dense_keyframes.txt", dense_->map().StampedPoses(dense_->CurrentPoses()));
   const DenseMapperStats stats = dense_->stats();
@@ -124,6 +129,7 @@ void Pipeline::Finish(const std::string& out_dir) {
                summary.octomap_ms, stats.mean_keyframe_ms, stats.max_keyframe_ms, stats.mean_pose_ms, stats.mean_keyframe_cpu_ms,
                stats.map.reindexed_anchors, stats.map.reindexed_points / 1e6, stats.mean_handoff_ms, stats.max_handoff_ms, stats.map.point_bytes / 1e6,
                stats.map.ray_bytes / 1e6);
+  if (!dense_error.empty()) throw Error(dense_error);
 }
 
 }  // namespace esdslam

@@ -57,7 +57,7 @@ class Pipeline {
   FrameReport Track(const RgbdFrame& frame);
   // Stops the threads; with dense, writes out_dir/dense.ply, octomap.bt, dense_top.png,
   // dense_view.png and dense_keyframes.txt (every dense keyframe, culled ones included) at the
-  // keyframes' final poses. Idempotent.
+  // keyframes' final poses. Idempotent. Throws Error when a thread failed (the dense outputs are written first).
   void Finish(const std::string& out_dir);
 
   const RunConfig& config() const { return config_; }

@@ -68,7 +68,8 @@ class SlamSystem {
 
   // bgr: CV_8UC3 (or CV_8UC1 grey); depth_m: CV_32F metres, 0 = invalid; dynamic_mask: empty or
   // CV_8U, nonzero = moving object; geometry_exempt: empty or CV_8U, nonzero = left alone by the
-  // geometry check (Frame::geometry_exempt). Throws Error on bad images or after Shutdown().
+  // geometry check (Frame::geometry_exempt). Throws Error on bad images, after Shutdown() or when
+  // local mapping or loop closing failed.
   TrackOutcome TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, double timestamp,
                          const cv::Mat& dynamic_mask = cv::Mat(), const cv::Mat& geometry_exempt = cv::Mat());
 

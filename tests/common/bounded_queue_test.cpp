@@ -21,8 +21,8 @@ TEST(BoundedQueue, DeliversInOrderAcrossThreads) {
 
 TEST(BoundedQueue, DropOldestKeepsNewest) {
   BoundedQueue<int> queue(1);
-  queue.PushDropOldest(1);
-  queue.PushDropOldest(2);
+  EXPECT_EQ(queue.PushDropOldest(1), DropOldestPush::kQueued);
+  EXPECT_EQ(queue.PushDropOldest(2), DropOldestPush::kQueuedDroppedOldest);
   EXPECT_EQ(queue.Size(), 1u);
   EXPECT_EQ(*queue.TryPop(), 2);
 }
@@ -31,6 +31,7 @@ TEST(BoundedQueue, PushFailsAfterClose) {
   BoundedQueue<int> queue(1);
   queue.Close();
   EXPECT_FALSE(queue.Push(1));
+  EXPECT_EQ(queue.PushDropOldest(1), DropOldestPush::kClosed);
   EXPECT_FALSE(queue.Pop().has_value());
 }
 

@@ -1,10 +1,13 @@
+#include <atomic>
 #include <filesystem>
 #include <random>
+#include <string>
 
 #include <opencv2/imgproc.hpp>
 
 #include <gtest/gtest.h>
 
+#include "common/error.h"
 #include "dense/cloud_io.h"
 #include "dense/dense_map.h"
 #include "dense/dense_mapper.h"
@@ -162,6 +165,55 @@ TEST(DenseMap, DynamicPixelsLeaveNoPointsAndNoRays) {
   const std::vector<PosedRays> rays = map.RaysAt({});
   ASSERT_EQ(rays.size(), 1u);
   for (const Eigen::Vector3f& end : map.RayEndpoints(rays[0].rays)) EXPECT_GT(end.x(), 0.0f);
+}
+
+DenseOptions FastOptions() {
+  DenseOptions options;
+  options.outlier_removal = false;
+  options.pixel_stride = 4;
+  return options;
+}
+
+// The pose source fails when the second keyframe is integrated: that keyframe is skipped, the
+// others go into the map, and the owner gets the error (it used to be logged and dropped).
+void ExpectKeyframeErrorReachesTheOwner(bool threaded) {
+  std::atomic<int> calls{0};
+  KeyframePoseSource poses = [&calls]() -> KeyframePoses {
+    if (++calls == 2) throw Error("no poses");
+    return {};
+  };
+  DenseMapperOptions options;
+  options.threaded = threaded;
+  DenseMapper mapper(PinholeCamera(TestIntrinsics()), FastOptions(), poses, options);
+  mapper.AddKeyframe(WallKeyframe(1, Rigid3()));
+  mapper.AddKeyframe(WallKeyframe(2, Rigid3()));
+  if (!threaded) {
+    EXPECT_THROW(mapper.AddKeyframe(WallKeyframe(3, Rigid3())), Error);  // the next hand-off reports it
+  }
+  try {
+    mapper.Finish();
+    ADD_FAILURE() << "Finish did not throw";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "dense mapping failed: no poses");
+  }
+  EXPECT_EQ(mapper.stats().keyframes, 1);
+  EXPECT_THROW(mapper.AddKeyframe(WallKeyframe(4, Rigid3())), Error);
+  EXPECT_EQ(mapper.stats().keyframes, 1);
+}
+
+TEST(DenseMapper, KeyframeErrorReachesTheOwnerThreaded) { ExpectKeyframeErrorReachesTheOwner(true); }
+
+TEST(DenseMapper, KeyframeErrorReachesTheOwnerInline) { ExpectKeyframeErrorReachesTheOwner(false); }
+
+TEST(DenseMapper, FinishIntegratesEveryQueuedKeyframe) {
+  DenseMapperOptions options;
+  options.queue_capacity = 2;
+  DenseMapper mapper(PinholeCamera(TestIntrinsics()), FastOptions(), {}, options);
+  for (long id = 1; id <= 6; ++id) mapper.AddKeyframe(WallKeyframe(id, Rigid3()));
+  mapper.Finish();
+  EXPECT_EQ(mapper.stats().keyframes, 6);
+  EXPECT_EQ(mapper.map().stats().keyframes, 6u);
+  mapper.Finish();  // idempotent
 }
 
 TEST(Octomap, WallOccupiedAndSpaceInFrontFree) {

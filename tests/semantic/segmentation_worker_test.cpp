@@ -130,6 +130,22 @@ TEST(SegmentationWorker, SegmenterErrorReachesTheWaitingThread) {
   EXPECT_THROW(worker.Latest(), Error);
 }
 
+TEST(SegmentationWorker, SubmitAfterAFailureThrowsIt) {
+  auto shared = std::make_shared<FakeSegmenter::Shared>();
+  shared->fail_at = 101.0;
+  SegmentationWorker worker(std::make_unique<FakeSegmenter>(shared));
+  ASSERT_TRUE(worker.Submit(MakeFrame(1)));
+  EXPECT_THROW(worker.WaitFor(1), Error);
+  try {
+    worker.Submit(MakeFrame(2));
+    ADD_FAILURE() << "Submit did not throw";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "segmentation failed: frame 1 (t=101.000000): fake failure");
+  }
+  worker.Stop();  // does not throw
+  EXPECT_EQ(shared->started.size(), 1u);
+}
+
 TEST(SegmentationWorker, IdsMustIncrease) {
   auto shared = std::make_shared<FakeSegmenter::Shared>();
   SegmentationWorker worker(std::make_unique<FakeSegmenter>(shared));
