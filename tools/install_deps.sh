@@ -10,6 +10,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   libeigen3-dev libopencv-dev libceres-dev liboctomap-dev \
   libyaml-cpp-dev libspdlog-dev libfmt-dev libcli11-dev libtbb-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
+  clang libfuzzer-14-dev \
   python3 python3-numpy python3-torch python3-onnx python3-pil \
   >/dev/null
 echo "install_deps: done"

@@ -53,11 +53,13 @@ int Conclude(Pipeline& pipeline, const FrameLog& log, std::size_t total_frames, 
 
 int Run(RunArgs args) {
   RunSettings settings = LoadRunSettings(args.settings_path);
-  const TumSequence sequence = TumSequence::Open(args.flags.run.sequence_dir);
+  AssociationOptions associations;
+  associations.association_file = args.flags.run.associations;
+  const TumSequence sequence = TumSequence::Open(args.flags.run.sequence_dir, associations);
   std::filesystem::create_directories(args.flags.run.out_dir);
   args.flags.mode = ParseDynamicMode(args.mode);
   const RunConfig config = ResolveRunConfig(std::move(settings), args.flags);
-  LogRunConfig(config);
+  RecordRunConfig(config);
   std::size_t n = sequence.frames().size();
   if (config.run.max_frames > 0) n = std::min<std::size_t>(n, config.run.max_frames);
   TumFolderSource source({sequence.frames().begin(), sequence.frames().begin() + n},
@@ -86,12 +88,16 @@ RunFn Setup(CLI::App& app) {
   app.add_option("--settings", args->settings_path, "Settings file (ORB-SLAM2 YAML keys)")->required();
   app.add_option("--sequence", args->flags.run.sequence_dir, "Sequence folder in TUM RGB-D layout")->required();
   app.add_option("--out", args->flags.run.out_dir, "Output folder (created if missing)")->required();
+  app.add_option("--associations", args->flags.run.associations,
+                 "ORB-SLAM2 association file 'ts_rgb rgb/F ts_depth depth/F' (paths relative to the sequence); "
+                 "default: rgb.txt and depth.txt, or DIR/associations.txt when those are missing")
+      ->check(CLI::ExistingFile);
   app.add_option("--max-frames", args->flags.run.max_frames, "Process at most N frames (0 = all)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_flag("--single-thread", args->flags.single_thread,
                "Run local mapping on the tracking thread (deterministic, repeatable)");
-  app.add_option("--seed", args->flags.seed, "Seed for random choices")->capture_default_str();
+  app.add_option("--seed", args->flags.seed, "Seed of the RANSACs (relocalization PnP, loop verification)")->capture_default_str();
   app.add_flag("--no-relocalization", args->flags.no_relocalization,
                "Disable BoW relocalization when tracking is LOST (same as Loop.relocalization: 0)");
   app.add_flag("--no-loop", args->flags.no_loop, "Disable loop closing (same as Loop.closing: 0), e.g. for the ablation");

@@ -11,6 +11,7 @@
 #include "semantic/class_groups.h"
 #include "semantic/overlay.h"
 #include "semantic/semantic_settings.h"
+#include "system/run_settings.h"
 
 namespace esdslam::cli {
 namespace {

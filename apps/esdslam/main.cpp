@@ -4,6 +4,7 @@
 #include <exception>
 #include <map>
 
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "apps/esdslam/commands.h"
@@ -37,6 +38,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  // Every log line (info, warnings, errors) goes to stderr; stdout carries only results
+  // (summaries, `eval --json`), so that `esdslam eval --json > r.json` is valid JSON.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("esdslam"));
   spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
   try {
     for (const auto& [sub, run] : runners) {

@@ -5,12 +5,21 @@
 #include <opencv2/calib3d.hpp>
 
 #include "common/error.h"
+#include "common/setting_error.h"
 
 namespace esdslam {
 
 void CameraIntrinsics::Check() const {
-  if (!(fx > 0) || !(fy > 0)) throw Error(fmt::format("camera: focal lengths must be positive (fx={}, fy={})", fx, fy));
-  if (width <= 0 || height <= 0) throw Error(fmt::format("camera: image size must be positive ({}x{})", width, height));
+  CheckRange("Camera.width", width, 8, 20000, "px");
+  CheckRange("Camera.height", height, 8, 20000, "px");
+  CheckRange("Camera.fx", fx, 1.0, 1e6, "px");
+  CheckRange("Camera.fy", fy, 1.0, 1e6, "px");
+  // The principal point may lie off the image (cropped sensors), but not far off.
+  CheckRange("Camera.cx", cx, -1.0 * width, 2.0 * width, "px");
+  CheckRange("Camera.cy", cy, -1.0 * height, 2.0 * height, "px");
+  const std::pair<const char*, double> coefficients[] = {{"Camera.k1", k1}, {"Camera.k2", k2}, {"Camera.p1", p1},
+                                                         {"Camera.p2", p2}, {"Camera.k3", k3}};
+  for (const auto& [key, value] : coefficients) CheckRange(key, value, -1000.0, 1000.0);
 }
 
 cv::Mat CameraIntrinsics::CameraMatrix() const {

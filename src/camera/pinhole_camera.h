@@ -17,7 +17,7 @@ struct CameraIntrinsics {
   double k1 = 0, k2 = 0, p1 = 0, p2 = 0, k3 = 0;
   int width = 640, height = 480;
 
-  // Throws esdslam::Error when a focal length is not positive or the size is empty.
+  // Throws SettingError (common/error.h) naming the Camera.* key of a value out of its range.
   void Check() const;
   bool HasDistortion() const { return k1 != 0 || k2 != 0 || p1 != 0 || p2 != 0 || k3 != 0; }
   cv::Mat CameraMatrix() const;      // 3x3 CV_64F

@@ -1,7 +1,7 @@
 #pragma once
 // Settings of the static dense map (keys Dense.* in the settings file).
 
-#include "common/error.h"
+#include "common/setting_error.h"
 
 namespace esdslam {
 
@@ -37,23 +37,25 @@ struct DenseOptions {
   int free_space_window_px = 2;         // carve only where the whole (2n+1)^2 neighbourhood sees past
   int free_space_max_evidence = 2;      // keyframes
 
+  // Throws SettingError naming the Dense.* key of a value outside its plausible range. The
+  // voxel bounds keep the map's cell count and the ray walks finite (1 mm .. 1 m).
   void Check() const {
-    if (!(voxel_size > 0)) throw Error("Dense.voxelSize must be positive");
-    if (!(min_depth >= 0) || !(max_depth > min_depth)) throw Error("Dense depth range must satisfy 0 <= minDepth < maxDepth");
-    if (pixel_stride < 1) throw Error("Dense.pixelStride must be >= 1");
-    if (mask_dilation_px < 0) throw Error("Dense.maskDilation must be >= 0");
-    if (edge_filter_px < 0 || edge_filter_px > 10) throw Error("Dense.edgeFilter must be in 0..10 px");
-    if (!(edge_jump_ratio > 0) || edge_jump_ratio > 1) throw Error("Dense.edgeJumpRatio must be in (0, 1]");
-    if (!(depth_noise_at_1m >= 0) || depth_noise_at_1m > 0.05) throw Error("Dense.depthNoiseAt1m must be in [0, 0.05]");
-    if (outlier_neighbors < 1) throw Error("Dense.outlierNeighbors must be >= 1");
-    if (!(outlier_std_ratio > 0)) throw Error("Dense.outlierStdRatio must be positive");
-    if (!(octomap_resolution > 0)) throw Error("Dense.octomapResolution must be positive");
-    if (!(octomap_max_range > 0)) throw Error("Dense.octomapMaxRange must be positive");
-    if (!(free_space_sigmas >= 1) || free_space_sigmas > 10) throw Error("Dense.freeSpaceSigmas must be in [1, 10]");
-    if (!(free_space_min_margin > 0) || free_space_min_margin > 1.0)
-      throw Error("Dense.freeSpaceMinMargin must be in (0, 1] m");
-    if (free_space_window_px < 0 || free_space_window_px > 10) throw Error("Dense.freeSpaceWindow must be in 0..10 px");
-    if (free_space_max_evidence < 1 || free_space_max_evidence > 100) throw Error("Dense.freeSpaceMaxEvidence must be in 1..100");
+    CheckRange("Dense.voxelSize", voxel_size, 0.001, 1.0, "m");
+    CheckRange("Dense.minDepth", min_depth, 0.0, 100.0, "m");
+    CheckRange("Dense.maxDepth", max_depth, min_depth + 0.01, 100.0, "m");
+    CheckRange("Dense.pixelStride", pixel_stride, 1, 64, "px");
+    CheckRange("Dense.maskDilation", mask_dilation_px, 0, 200, "px");
+    CheckRange("Dense.edgeFilter", edge_filter_px, 0, 10, "px");
+    CheckRange("Dense.edgeJumpRatio", edge_jump_ratio, 1e-3, 1.0);
+    CheckRange("Dense.depthNoiseAt1m", depth_noise_at_1m, 0.0, 0.05, "m");
+    CheckRange("Dense.outlierNeighbors", outlier_neighbors, 1, 100);
+    CheckRange("Dense.outlierStdRatio", outlier_std_ratio, 0.1, 100.0);
+    CheckRange("Dense.octomapResolution", octomap_resolution, 0.005, 2.0, "m");
+    CheckRange("Dense.octomapMaxRange", octomap_max_range, 0.1, 100.0, "m");
+    CheckRange("Dense.freeSpaceSigmas", free_space_sigmas, 1.0, 10.0);
+    CheckRange("Dense.freeSpaceMinMargin", free_space_min_margin, 1e-3, 1.0, "m");
+    CheckRange("Dense.freeSpaceWindow", free_space_window_px, 0, 10, "px");
+    CheckRange("Dense.freeSpaceMaxEvidence", free_space_max_evidence, 1, 100);
   }
 };
 

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "common/setting_error.h"
 #include "dynamic/depth_window.h"
 #include "dynamic/flag_mask.h"
 
@@ -131,19 +132,21 @@ void TestKeyframePoints(const CurrentView& view, const std::vector<ReferenceKeyf
 }  // namespace
 
 void GeometryCheckOptions::Check() const {
-  if (!(max_parallax_deg > 0 && max_parallax_deg <= 180)) throw Error("geometry check: max_parallax_deg must be in (0, 180]");
-  if (!(abs_threshold_m > 0) || !(depth_sq_threshold >= 0))
-    throw Error("geometry check: abs_threshold_m must be > 0 and depth_sq_threshold >= 0");
-  if (!(min_depth_m >= 0 && max_depth_m > min_depth_m)) throw Error("geometry check: need 0 <= min_depth_m < max_depth_m");
-  if (!(motion_window_fraction >= 0) || max_window_radius_px < window_radius_px)
-    throw Error("geometry check: need motion_window_fraction >= 0 and max_window_radius_px >= window_radius_px");
-  if (window_radius_px < 0 || cluster_radius_px < 1 || min_cluster_points < 1 || max_mask_radius_px < cluster_radius_px)
-    throw Error("geometry check: need window_radius_px >= 0, cluster_radius_px and min_cluster_points >= 1 and "
-                "max_mask_radius_px >= cluster_radius_px");
-  if (!(mask_radius_m > 0)) throw Error("geometry check: mask_radius_m must be > 0");
-  if (!(min_cluster_support >= 0 && min_cluster_support <= 1))
-    throw Error("geometry check: min_cluster_support must be in [0, 1]");
-  growing.Check();
+  const std::string k = "Dynamic.check.";
+  CheckRange(k + "maxParallax", max_parallax_deg, 0.1, 180.0, "deg");
+  CheckRange(k + "absThreshold", abs_threshold_m, 1e-4, 2.0, "m");
+  CheckRange(k + "depthSqThreshold", depth_sq_threshold, 0.0, 1.0, "1/m");
+  CheckRange(k + "minDepth", min_depth_m, 0.0, 100.0, "m");
+  CheckRange(k + "maxDepth", max_depth_m, min_depth_m + 1e-3, 100.0, "m");
+  CheckRange(k + "windowRadius", window_radius_px, 0, 50, "px");
+  CheckRange(k + "motionWindowFraction", motion_window_fraction, 0.0, 10.0);
+  CheckRange(k + "maxWindowRadius", max_window_radius_px, window_radius_px, 100, "px");
+  CheckRange(k + "clusterRadius", cluster_radius_px, 1, 500, "px");
+  CheckRange(k + "minClusterPoints", min_cluster_points, 1, 10000);
+  CheckRange(k + "minClusterSupport", min_cluster_support, 0.0, 1.0);
+  CheckRange(k + "maskRadius", mask_radius_m, 1e-3, 10.0, "m");
+  CheckRange(k + "maxMaskRadius", max_mask_radius_px, cluster_radius_px, 2000, "px");
+  growing.Check(k + "grow.");
 }
 
 GeometryCheckResult CheckMultiViewGeometry(const PinholeCamera& camera, const Rigid3& cam_from_world,

@@ -7,6 +7,7 @@
 #include "common/timer.h"
 #include "dynamic/reference_keyframes.h"
 #include "map/keyframe.h"
+#include "common/setting_error.h"
 #include "map/map_point.h"
 #include "tracking/frame.h"
 
@@ -14,11 +15,10 @@ namespace esdslam {
 
 void GeometryFilterOptions::Check() const {
   check.Check();
-  if (reference_keyframes < 1) throw Error("geometry filter: reference_keyframes must be >= 1");
-  if (keyframe_depth_capacity < 0) throw Error("geometry filter: keyframe_depth_capacity must be >= 0");
-  if (!(keyframe_depth_scale > 0 && keyframe_depth_scale <= 1))
-    throw Error("geometry filter: keyframe_depth_scale must be in (0, 1]");
-  if (cull_after_frames < 0) throw Error("geometry filter: cull_after_frames must be >= 0");
+  CheckRange("Dynamic.check.referenceKeyframes", reference_keyframes, 1, 100);
+  CheckRange("Dynamic.check.keyframeDepthCapacity", keyframe_depth_capacity, 0, 100000);
+  CheckRange("Dynamic.check.keyframeDepthScale", keyframe_depth_scale, 0.05, 1.0);
+  CheckRange("Dynamic.check.cullAfterFrames", cull_after_frames, 0, 1000);
 }
 
 GeometryFilter::GeometryFilter(const GeometryFilterOptions& options)

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "common/setting_error.h"
 
 namespace esdslam {
 namespace {
@@ -107,17 +108,20 @@ cv::Mat GrowthBand(const cv::Mat& coarse_mask, const cv::Size& size, int band_px
 
 }  // namespace
 
-void RegionGrowingOptions::Check() const {
-  if (!(abs_tolerance_m > 0) || !(depth_sq_tolerance >= 0))
-    throw Error("region growing: abs_tolerance_m must be > 0 and depth_sq_tolerance >= 0");
-  if (!(max_depth_from_seed_m > 0) || !(seed_split_gap_m > 0))
-    throw Error("region growing: max_depth_from_seed_m and seed_split_gap_m must be > 0");
-  if (!(min_seed_fraction >= 0 && min_seed_fraction < 1) || !(max_outside_fraction >= 0 && max_outside_fraction <= 1))
-    throw Error("region growing: min_seed_fraction must be in [0, 1) and max_outside_fraction in [0, 1]");
-  if (!(seed_core_fraction >= 0 && seed_core_fraction < 0.5))
-    throw Error("region growing: seed_core_fraction must be in [0, 0.5)");
-  if (seed_erosion_px < 0 || growth_band_px < 0 || no_depth_dilation_px < 0 || min_component_px < 0 || (connectivity != 4 && connectivity != 8))
-    throw Error("region growing: pixel counts must be >= 0 and connectivity 4 or 8");
+void RegionGrowingOptions::Check(const std::string& key_prefix) const {
+  const std::string& k = key_prefix;
+  CheckRange(k + "absTolerance", abs_tolerance_m, 1e-4, 2.0, "m");
+  CheckRange(k + "depthSqTolerance", depth_sq_tolerance, 0.0, 1.0, "1/m");
+  CheckRange(k + "maxDepthFromSeed", max_depth_from_seed_m, 0.01, 10.0, "m");
+  CheckRange(k + "seedSplitGap", seed_split_gap_m, 0.001, 10.0, "m");
+  CheckRange(k + "minSeedFraction", min_seed_fraction, 0.0, 0.999);
+  CheckRange(k + "maxOutsideFraction", max_outside_fraction, 0.0, 1.0);
+  CheckRange(k + "seedErosion", seed_erosion_px, 0, 100, "px");
+  CheckRange(k + "seedCoreFraction", seed_core_fraction, 0.0, 0.499);
+  CheckSetting(connectivity == 4 || connectivity == 8, k + "connectivity", "must be 4 or 8");
+  CheckRange(k + "growthBand", growth_band_px, 0, 500, "px");
+  CheckRange(k + "noDepthDilation", no_depth_dilation_px, 0, 100, "px");
+  CheckRange(k + "minComponent", min_component_px, 0, 1000000, "px");
 }
 
 namespace {

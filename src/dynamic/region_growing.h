@@ -20,6 +20,8 @@
 
 #include <vector>
 
+#include <string>
+
 #include <opencv2/core.hpp>
 
 namespace esdslam {
@@ -43,7 +45,8 @@ struct RegionGrowingOptions {
   int min_component_px = 30;          // smaller mask components are dropped (noise)
 
   // Throws esdslam::Error on negative or inconsistent values.
-  void Check() const;
+  // Throws SettingError naming the key under `key_prefix` (the settings binding's prefix).
+  void Check(const std::string& key_prefix = "Dynamic.grow.") const;
 };
 
 // raw_mask: CV_8U, nonzero = person (network output). depth_m: CV_32F metres, 0 = invalid, same

@@ -2,6 +2,7 @@
 // ORB extraction settings (ORB-SLAM2 keys ORBextractor.*).
 
 #include "common/error.h"
+#include "common/setting_error.h"
 
 namespace esdslam {
 
@@ -13,11 +14,11 @@ struct OrbOptions {
   int min_fast_threshold = 7;       // ORBextractor.minThFAST: fallback in cells with no corner
 
   void Check() const {
-    if (num_features <= 0) throw Error("ORBextractor.nFeatures must be positive");
-    if (!(scale_factor > 1.0)) throw Error("ORBextractor.scaleFactor must be > 1");
-    if (num_levels <= 0 || num_levels > 32) throw Error("ORBextractor.nLevels must be in 1..32");
-    if (initial_fast_threshold <= 0 || min_fast_threshold <= 0 || min_fast_threshold > initial_fast_threshold)
-      throw Error("ORBextractor FAST thresholds must satisfy 0 < minThFAST <= iniThFAST");
+    CheckRange("ORBextractor.nFeatures", num_features, 1, 100000);
+    CheckRange("ORBextractor.scaleFactor", scale_factor, 1.001, 4.0);
+    CheckRange("ORBextractor.nLevels", num_levels, 1, 32);
+    CheckRange("ORBextractor.iniThFAST", initial_fast_threshold, 1, 255);
+    CheckRange("ORBextractor.minThFAST", min_fast_threshold, 1, initial_fast_threshold);
   }
 };
 

@@ -1,18 +1,32 @@
 #include "io/settings.h"
 
 #include "common/error.h"
+#include "common/setting_error.h"
 #include "io/settings_table.h"
 
 namespace esdslam {
 
 void Settings::Check() const {
   camera.Check();
-  if (!(fps > 0)) throw Error("Camera.fps must be > 0");
-  if (!(depth_map_factor > 0)) throw Error("DepthMapFactor must be > 0");
-  if (!(th_depth > 0)) throw Error("ThDepth must be > 0");
-  if (!(bf > 0)) throw Error("Camera.bf must be > 0");
-  if (rgb_order != 0 && rgb_order != 1) throw Error("Camera.RGB must be 0 (BGR) or 1 (RGB)");
+  CheckRange("Camera.fps", fps, 0.1, 1000.0, "Hz");
+  // PNG value per metre: 1 (metres) .. 100000 (10 um steps); TUM 5000, Kinect mm 1000.
+  CheckRange("DepthMapFactor", depth_map_factor, 1.0, 1e5);
+  CheckRange("ThDepth", th_depth, 1.0, 1000.0, "baselines");
+  CheckRange("Camera.bf", bf, 0.1, 1e5, "m*px");
+  CheckSetting(rgb_order == 0 || rgb_order == 1, "Camera.RGB", "must be 0 (BGR) or 1 (RGB)");
+  CheckSetting(file_version.empty() || file_version == "1.0", "File.version",
+               "only ORB-SLAM3's \"1.0\" format is known, got \"" + file_version + "\"");
+  CheckSetting(camera_type == "PinHole", "Camera.type",
+               "only \"PinHole\" cameras are supported, got \"" + camera_type + "\"");
+  CheckRange("Stereo.b", stereo_b, 0.0, 10.0, "m");
   orb.Check();
+}
+
+void ResolveOrbSlam3Keys(Settings& settings, const std::map<std::string, int>& key_lines) {
+  if (key_lines.count("Stereo.b") == 0) return;
+  CheckSetting(key_lines.count("Camera.bf") == 0, "Stereo.b", "give Stereo.b (ORB-SLAM3) or Camera.bf, not both");
+  CheckRange("Stereo.b", settings.stereo_b, 1e-3, 10.0, "m");
+  settings.bf = settings.stereo_b * settings.camera.fx;
 }
 
 // The single table of core keys (ORB-SLAM2 names). Later stages bind their own keys in their
@@ -41,21 +55,28 @@ void BindCoreSettings(Settings& settings, SettingsTable& table) {
   table.Add("ORBextractor.nLevels", &settings.orb.num_levels);
   table.Add("ORBextractor.iniThFAST", &settings.orb.initial_fast_threshold);
   table.Add("ORBextractor.minThFAST", &settings.orb.min_fast_threshold);
-  table.Ignore("Viewer.");  // ORB-SLAM2's Pangolin viewer settings
+  // ORB-SLAM3's RGB-D format (read only; saved files use the keys above).
+  table.Add("File.version", &settings.file_version);
+  table.Add("Camera.type", &settings.camera_type);
+  table.Add("Stereo.b", &settings.stereo_b);
+  for (const char* key : {"File.version", "Camera.type", "Stereo.b"}) table.InputOnly(key);
+  for (const char* name : {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3"})
+    table.Alias(std::string("Camera1.") + name, std::string("Camera.") + name);
+  table.Alias("Stereo.ThDepth", "ThDepth");
+  table.Alias("RGBD.DepthMapFactor", "DepthMapFactor");
+  table.Ignore("Viewer.");  // ORB-SLAM2/3's Pangolin viewer settings
 }
 
 Settings LoadSettings(const std::string& path, std::vector<std::string>* warnings) {
   Settings settings;
   SettingsTable table;
   BindCoreSettings(settings, table);
-  std::vector<std::string> load_warnings = table.Load(path);
-  try {
+  SettingsTable::KeyLines lines;
+  std::vector<std::string> load_warnings = table.Load(path, &lines);
+  CheckWithKeyLines(path, lines, [&] {
+    ResolveOrbSlam3Keys(settings, lines);
     settings.Check();
-  } catch (const InputError&) {
-    throw;
-  } catch (const Error& e) {
-    throw InputError(path, 0, e.what());
-  }
+  });
   if (warnings) warnings->insert(warnings->end(), load_warnings.begin(), load_warnings.end());
   return settings;
 }

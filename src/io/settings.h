@@ -1,8 +1,13 @@
 #pragma once
 // Run settings from a YAML file using ORB-SLAM2's keys (flat dotted keys such as Camera.fx;
-// the OpenCV header line '%YAML:1.0' is accepted). See io/settings_table.h for how the key table
-// works and how a later stage adds its own keys.
+// OpenCV FileStorage's dialect is accepted, see io/settings_table.h for how the key table
+// works and how a later stage adds its own keys).
+// ORB-SLAM3's RGB-D format (File.version: "1.0") is read as well: Camera1.fx/fy/cx/cy/k1/k2/p1/
+// p2/k3 for Camera.*, Stereo.ThDepth for ThDepth, RGBD.DepthMapFactor for DepthMapFactor and
+// Stereo.b (baseline, m) for Camera.bf = Stereo.b * fx; Camera.type must be PinHole. Files
+// are saved in ORB-SLAM2's keys.
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -21,13 +26,21 @@ struct Settings {
   double bf = 40;                 // Camera.bf = baseline (m) * fx (px)
   int rgb_order = 1;              // Camera.RGB: 1 = images are RGB, 0 = BGR
   OrbOptions orb;                 // ORBextractor.*
+  // ORB-SLAM3 keys read on input only (not saved): File.version ("" or "1.0"), Camera.type
+  // ("PinHole") and Stereo.b (baseline in m; 0 = not given, else bf = stereo_b * fx on load).
+  std::string file_version;
+  std::string camera_type = "PinHole";
+  double stereo_b = 0;
 
-  // Throws Error on non-positive fps/factor/bf/th_depth, rgb_order not 0/1, bad camera or ORB.
+  // Throws SettingError naming the key for any value outside its plausible range.
   void Check() const;
 };
 
 // Binds every key of `settings` into `table` (the single key table of the core settings).
 void BindCoreSettings(Settings& settings, SettingsTable& table);
+
+// After loading: Stereo.b into bf (an error when Camera.bf is given too). Throws SettingError.
+void ResolveOrbSlam3Keys(Settings& settings, const std::map<std::string, int>& key_lines);
 
 // Loads and checks. Unknown keys are warned about (file and line) and, if `warnings` is given,
 // appended to it. Throws InputError for a missing file, YAML syntax errors, a missing required

@@ -6,12 +6,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <sstream>
 
 #include <spdlog/spdlog.h>
 #include <yaml-cpp/yaml.h>
 
 #include "common/error.h"
+#include "common/setting_error.h"
 
 namespace esdslam {
 namespace {
@@ -53,13 +55,6 @@ std::string QuoteYamlString(const std::string& text) {
   return quoted + "\"";
 }
 
-// OpenCV writes '%YAML:1.0', which yaml-cpp rejects: blank that line (keeps line numbers).
-std::string DropOpenCvHeader(const std::string& text) {
-  if (text.rfind("%YAML", 0) != 0) return text;
-  const auto end_of_line = text.find('\n');
-  return end_of_line == std::string::npos ? std::string() : text.substr(end_of_line);
-}
-
 struct FlatValue {
   YAML::Node node;
   int line = 0;  // 1-based line of the key
@@ -98,7 +93,52 @@ std::string JoinScalars(const YAML::Node& list) {
   return text;
 }
 
+const SettingsTable::Entry* FindEntry(const std::vector<SettingsTable::Entry>& entries, const std::string& key) {
+  for (const SettingsTable::Entry& candidate : entries) {
+    if (candidate.key == key) return &candidate;
+  }
+  return nullptr;
+}
+
+std::string CanonicalKey(const SettingsTable::Entry& entry) {
+  return entry.canonical.empty() ? entry.key : entry.canonical;
+}
+
 }  // namespace
+
+std::string NormalizeOpenCvYaml(const std::string& text) {
+  // A plain key at the start of a line (after indentation), a colon, then a value character.
+  static const std::regex kNoSpace(R"(^(\s*[A-Za-z_][A-Za-z0-9_.\-]*):([^\s:/\\]))");
+  std::string out;
+  out.reserve(text.size() + 16);
+  std::size_t begin = 0;
+  bool first = true;
+  while (begin <= text.size()) {
+    const std::size_t end = std::min(text.find('\n', begin), text.size());
+    std::string line = text.substr(begin, end - begin);
+    if (first && line.rfind("%YAML", 0) == 0) line.clear();  // OpenCV's header; yaml-cpp rejects it
+    out += std::regex_replace(line, kNoSpace, "$1: $2", std::regex_constants::format_first_only);
+    if (end == text.size()) break;
+    out += '\n';
+    begin = end + 1;
+    first = false;
+  }
+  return out;
+}
+
+void CheckWithKeyLines(const std::string& name, const SettingsTable::KeyLines& lines,
+                       const std::function<void()>& check) {
+  try {
+    check();
+  } catch (const InputError&) {
+    throw;
+  } catch (const SettingError& e) {
+    const auto it = lines.find(e.key());
+    throw InputError(name, it == lines.end() ? 0 : it->second, e.what());
+  } catch (const Error& e) {
+    throw InputError(name, 0, e.what());
+  }
+}
 
 void SettingsTable::AddEntry(Entry entry) {
   for (const Entry& existing : entries_) {
@@ -131,21 +171,43 @@ void SettingsTable::Add(const std::string& key, std::string* field, Need need) {
             [field] { return QuoteYamlString(*field); }});
 }
 
+void SettingsTable::InputOnly(const std::string& key) {
+  for (Entry& entry : entries_) {
+    if (entry.key == key) entry.saved = false;
+  }
+}
+
+void SettingsTable::Alias(const std::string& alias, const std::string& key) {
+  const Entry* target = FindEntry(entries_, key);
+  if (target == nullptr) throw Error("settings alias " + alias + " of an unbound key " + key);
+  Entry entry = *target;
+  entry.key = alias;
+  entry.canonical = key;
+  entry.need = Need::kOptional;
+  entry.saved = false;
+  AddEntry(std::move(entry));
+}
+
+void SettingsTable::MakeAllOptional() {
+  for (Entry& entry : entries_) entry.need = Need::kOptional;
+}
+
 void SettingsTable::Ignore(const std::string& key_prefix) { ignored_prefixes_.push_back(key_prefix); }
 
-std::vector<std::string> SettingsTable::Load(const std::string& path) const {
+std::vector<std::string> SettingsTable::Load(const std::string& path, KeyLines* lines) const {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path, 0, "settings file not found");
   std::ifstream in(path);
   if (!in) throw InputError(path, 0, "cannot open settings file");
   std::stringstream buffer;
   buffer << in.rdbuf();
-  return LoadFromString(buffer.str(), path);
+  return LoadFromString(buffer.str(), path, lines);
 }
 
-std::vector<std::string> SettingsTable::LoadFromString(const std::string& text, const std::string& name) const {
+std::vector<std::string> SettingsTable::LoadFromString(const std::string& text, const std::string& name,
+                                                       KeyLines* lines) const {
   YAML::Node root;
   try {
-    root = YAML::Load(DropOpenCvHeader(text));
+    root = YAML::Load(NormalizeOpenCvYaml(text));
   } catch (const YAML::Exception& e) {
     throw InputError(name, e.mark.line + 1, "YAML syntax error: " + e.msg);
   }
@@ -155,15 +217,18 @@ std::vector<std::string> SettingsTable::LoadFromString(const std::string& text, 
   } else if (root.IsDefined() && !root.IsNull()) {
     throw InputError(name, root.Mark().line + 1, "settings file must be a map of 'key: value' lines");
   }
-  std::map<std::string, int> seen;  // key -> line
+  KeyLines seen;                                       // key -> line
+  std::map<std::string, std::pair<std::string, int>> given;  // canonical key -> key as given, line
   std::vector<std::string> warnings;
   for (const auto& [key, value] : values) {
     if (!seen.emplace(key, value.line).second) {
       throw InputError(name, value.line, fmt::format("duplicate key '{}' (first on line {})", key, seen[key]));
     }
-    const Entry* entry = nullptr;
-    for (const Entry& candidate : entries_) {
-      if (candidate.key == key) entry = &candidate;
+    const Entry* entry = FindEntry(entries_, key);
+    if (entry != nullptr && !given.emplace(CanonicalKey(*entry), std::make_pair(key, value.line)).second) {
+      const auto& first = given[CanonicalKey(*entry)];
+      throw InputError(name, value.line,
+                       fmt::format("'{}' gives the same setting as '{}' on line {}", key, first.first, first.second));
     }
     if (entry == nullptr) {
       bool ignored = false;
@@ -186,16 +251,21 @@ std::vector<std::string> SettingsTable::LoadFromString(const std::string& text, 
     }
   }
   for (const Entry& entry : entries_) {
-    if (entry.need == Need::kRequired && seen.count(entry.key) == 0) {
+    if (entry.need == Need::kRequired && given.count(entry.key) == 0) {
       throw InputError(name, 0, fmt::format("missing required key '{}'", entry.key));
     }
   }
+  // A check names the canonical key: map it to the line of whichever form was given.
+  for (const auto& [canonical, key_line] : given) seen.emplace(canonical, key_line.second);
+  if (lines != nullptr) *lines = std::move(seen);
   return warnings;
 }
 
 std::string SettingsTable::ToYaml() const {
   std::string text = "%YAML:1.0\n";
-  for (const Entry& entry : entries_) text += entry.key + ": " + entry.format() + "\n";
+  for (const Entry& entry : entries_) {
+    if (entry.saved) text += entry.key + ": " + entry.format() + "\n";
+  }
   return text;
 }
 

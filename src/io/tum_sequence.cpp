@@ -32,6 +32,11 @@ std::vector<ListedImage> ReadImageList(const std::string& list_path, const std::
   std::vector<double> timestamps;
   std::vector<int> line_numbers;
   for (const TextLine& line : ReadTextLines(list_path)) {
+    if (line.fields.size() == 4) {
+      throw InputError(list_path, line.line_number,
+                       "expected 2 fields 'timestamp path', got 4: this looks like an ORB-SLAM2 association file "
+                       "'ts_rgb rgb_path ts_depth depth_path'; pass it with --associations");
+    }
     if (line.fields.size() != 2) {
       throw InputError(list_path, line.line_number,
                        fmt::format("expected 2 fields 'timestamp path', got {}", line.fields.size()));
@@ -116,14 +121,27 @@ void AssociationOptions::Check() const {
   if (!(max_time_difference > 0)) throw Error("association max_time_difference must be > 0 seconds");
 }
 
+std::string DetectAssociationFile(const std::string& dir) {
+  if (fs::exists(JoinPath(dir, "rgb.txt")) || fs::exists(JoinPath(dir, "depth.txt"))) return "";
+  for (const char* name : {"associations.txt", "association.txt", "associate.txt"}) {
+    const std::string path = JoinPath(dir, name);
+    if (fs::is_regular_file(path)) return path;
+  }
+  return "";
+}
+
 TumSequence TumSequence::Open(const std::string& dir, const AssociationOptions& options) {
   options.Check();
   if (!fs::is_directory(dir)) throw InputError(dir, 0, "sequence folder not found");
   TumSequence sequence;
   sequence.dir_ = dir;
-  std::vector<FrameEntry> frames = options.association_file.empty()
-                                       ? AssociateLists(dir, options.max_time_difference)
-                                       : ReadAssociationFile(options.association_file, dir);
+  std::string association_file = options.association_file;
+  if (association_file.empty()) {
+    association_file = DetectAssociationFile(dir);
+    if (!association_file.empty()) spdlog::info("{}: no rgb.txt/depth.txt, reading {}", dir, association_file);
+  }
+  std::vector<FrameEntry> frames = association_file.empty() ? AssociateLists(dir, options.max_time_difference)
+                                                             : ReadAssociationFile(association_file, dir);
   sequence.frames_ = DropMissingFiles(std::move(frames), sequence.skipped_files_);
   if (sequence.frames_.empty()) {
     throw InputError(dir, 0, "empty sequence: no associated rgb-depth frame with both images present");

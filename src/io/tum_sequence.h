@@ -4,7 +4,9 @@
 //   DIR/groundtruth.txt          TUM trajectory (optional)
 //   DIR/rgb/*.png                8-bit colour,  DIR/depth/*.png  16-bit, metres = value / factor
 // rgb and depth are associated by nearest timestamp (see io/associate.h), or read from an
-// ORB-SLAM2-style association file 'ts_rgb rgb/x.png ts_depth depth/y.png'.
+// ORB-SLAM2-style association file 'ts_rgb rgb/x.png ts_depth depth/y.png' (rgbd_tum's
+// Examples/RGB-D/associations/*.txt): given explicitly, or detected when DIR has no rgb.txt and
+// no depth.txt but one of DIR/associations.txt, association.txt, associate.txt.
 
 #include <string>
 #include <vector>
@@ -25,6 +27,9 @@ struct FrameEntry {
   double depth_timestamp = 0;
   std::string depth_path;
 };
+
+// The association file Open() reads for DIR when none is given (see above); empty = none.
+std::string DetectAssociationFile(const std::string& dir);
 
 class TumSequence {
  public:

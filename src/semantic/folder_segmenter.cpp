@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "common/error.h"
+#include "common/setting_error.h"
 #include "common/timer.h"
 
 namespace esdslam {
@@ -17,7 +18,7 @@ namespace fs = std::filesystem;
 
 void FolderSegmenterOptions::Check() const {
   if (folder.empty()) throw Error("Semantic.maskFolder: no folder given");
-  if (!(tolerance_s >= 0.0)) throw Error("Semantic.maskTolerance must be >= 0 seconds");
+  CheckRange("Semantic.maskTolerance", tolerance_s, 0.0, 10.0, "s");
 }
 
 FolderSegmenter::FolderSegmenter(FolderSegmenterOptions options) : options_(std::move(options)) {

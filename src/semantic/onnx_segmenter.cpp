@@ -7,20 +7,23 @@
 #include <spdlog/spdlog.h>
 
 #include "common/error.h"
+#include "common/setting_error.h"
 #include "common/timer.h"
 
 namespace esdslam {
 
 void OnnxSegmenterOptions::Check() const {
   if (model_path.empty()) throw Error("Semantic.model: no model path given");
-  if (input_width <= 0 || input_height <= 0 || input_width % 32 != 0 || input_height % 32 != 0)
-    throw Error(fmt::format("Semantic.inputWidth/inputHeight must be positive multiples of 32 (got {}x{})",
-                            input_width, input_height));
+  CheckRange("Semantic.inputWidth", input_width, 32, 4096, "px");
+  CheckRange("Semantic.inputHeight", input_height, 32, 4096, "px");
+  CheckSetting(input_width % 32 == 0, "Semantic.inputWidth", fmt::format("must be a multiple of 32, got {}", input_width));
+  CheckSetting(input_height % 32 == 0, "Semantic.inputHeight",
+               fmt::format("must be a multiple of 32, got {}", input_height));
   for (float s : std_rgb)
     if (!(s > 0.0f)) throw Error("segmenter std values must be positive");
   if (class_names.empty() || class_names.size() > 256) throw Error("segmenter needs 1..256 class names");
   if (person_class >= static_cast<int>(class_names.size())) throw Error("person class id out of range");
-  if (threads < 0) throw Error("Semantic.threads must be >= 0");
+  CheckRange("Semantic.threads", threads, 0, 256);
 }
 
 OnnxSegmenter::OnnxSegmenter(OnnxSegmenterOptions options) : options_(std::move(options)) {

@@ -1,17 +1,7 @@
 #pragma once
-// Semantic options from an ORB-SLAM2-style YAML settings file (flat keys). Keys read, all
-// optional:
-//   Semantic.segmenter: onnx | folder                  (default onnx)
-//   Semantic.model: path to the .onnx file             (default models/espnetv2_s2.0_voc_384x288.onnx)
-//   Semantic.inputWidth, Semantic.inputHeight: network input size in pixels (default: taken from a
-//       model file name ending in _<W>x<H>.onnx, else 384x288)
-//   Semantic.threads: OpenCV threads, 0 = leave unchanged (default 0)
-//   Semantic.upsampleScores: 1/0 (default 1, see onnx_segmenter.h)
-//   Semantic.dynamicClasses, Semantic.potentiallyDynamicClasses: VOC class names, as a YAML list
-//       ([person, chair]) or one comma-separated string ("person,chair")
-//   Semantic.maskFolder, Semantic.maskTolerance (s), Semantic.allowMissingMasks: folder segmenter
-//   Semantic.realtime: 1 = newest-wins segmentation thread, 0 = every frame (default 0)
-// A leading "%YAML:1.0" line (written by OpenCV's FileStorage, rejected by yaml-cpp) is skipped.
+// The semantic part of a run's configuration. Its settings keys (Semantic.*) are read, with
+// every other key, by the one settings loader, system/run_settings.h (keys documented there);
+// this file holds the resolved options and the model-path rules.
 
 #include <memory>
 #include <string>
@@ -32,11 +22,9 @@ struct SemanticSettings {
   FolderSegmenterOptions folder;
   ClassGroupOptions groups;
   SegmentationMode mode = SegmentationMode::kEveryFrame;
+  // The class groups, and the chosen segmenter's options. Throws SettingError naming the key.
+  void Check() const;
 };
-
-// Defaults (with the default model resolved) when `path` is empty. Throws InputError on a
-// missing or malformed file or a value of the wrong type.
-SemanticSettings LoadSemanticSettings(const std::string& path);
 
 // Finds a model file: absolute or existing as given; else relative to `settings_dir`, the
 // executable's folder and its two parents. Returns

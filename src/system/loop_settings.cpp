@@ -3,12 +3,22 @@
 #include <spdlog/spdlog.h>
 
 #include "common/error.h"
+#include "common/setting_error.h"
 #include "common/timer.h"
 #include "semantic/semantic_settings.h"
 
 namespace esdslam {
 
 void LoopOptions::Check() const {
+  // The bound keys first, so that an error names the key (and its line, on load).
+  CheckRange("Loop.directIndexLevel", places.direct_index_level, 1, 6);
+  CheckRange("Loop.relocMinInliers", relocalizer.min_final_inliers, relocalizer.min_optimized_inliers, 10000);
+  CheckRange("Loop.relocMaxCandidates", relocalizer.max_candidates, 1, 1000);
+  CheckRange("Loop.relocRatio", relocalizer.bow.ratio, 0.01, 1.0);
+  CheckRange("Loop.consistency", closer.consistency_threshold, 1, 100);
+  CheckRange("Loop.minInliers", closer.verification.min_refined_inliers, 3, 10000);
+  CheckRange("Loop.minMatches", closer.verification.min_total_matches, 3, 10000);
+  CheckRange("Loop.essentialMinCovisibility", closer.essential_min_covisibility, 1, 100000);
   places.Check();
   relocalizer.Check();
   closer.Check();

@@ -80,10 +80,11 @@ RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags) {
   if (flags.no_relocalization) settings.loop.relocalization = false;
   if (flags.no_loop) settings.loop.closing = false;
   if (flags.realtime) settings.semantic.mode = SegmentationMode::kNewestWins;
+  settings.loop.relocalizer.pnp.seed = flags.seed;
+  settings.loop.closer.verification.ransac.seed = flags.seed;
   config.settings = std::move(settings);
   SlamOptions& slam = config.slam;
   slam.single_thread = flags.single_thread;
-  slam.seed = flags.seed;
   slam.tracker.max_frames_between_keyframes = MaxFramesBetweenKeyframes(config.settings.core.fps);
   slam.tracker.localization_only = flags.localization;
   slam.loop = config.settings.loop;
@@ -102,24 +103,28 @@ RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags) {
   return config;
 }
 
-void LogRunConfig(const RunConfig& config) {
+void RecordRunConfig(const RunConfig& config) {
   const Settings& s = config.settings.core;
   const auto& c = s.camera;
-  spdlog::info("run: sequence {} -> {}", config.run.sequence_dir, config.run.out_dir);
-  spdlog::info("run: camera fx={} fy={} cx={} cy={} k=[{} {} {} {} {}] {}x{} fps={}", c.fx, c.fy, c.cx, c.cy, c.k1,
-               c.k2, c.p1, c.p2, c.k3, c.width, c.height, s.fps);
-  spdlog::info("run: bf={} ThDepth={} DepthMapFactor={} RGB={} ORB nFeatures={} scale={} levels={} FAST={}/{}", s.bf,
-               s.th_depth, s.depth_map_factor, s.rgb_order, s.orb.num_features, s.orb.scale_factor, s.orb.num_levels,
-               s.orb.initial_fast_threshold, s.orb.min_fast_threshold);
-  spdlog::info("run: {} seed={}", config.slam.single_thread ? "single-thread" : "two threads", config.slam.seed);
+  std::string where = "not saved (no output folder)";
+  if (!config.run.out_dir.empty()) {
+    where = (std::filesystem::path(config.run.out_dir) / "settings_used.yaml").string();
+    SaveRunSettings(config.settings, where);
+  }
   const bool realtime = config.settings.semantic.mode == SegmentationMode::kNewestWins;
-  spdlog::info("run: mode {}, segmentation {}, dense {}, debug frames {}", ToString(config.pipeline.mode),
-               realtime ? "real time (newest wins)" : "every frame", config.pipeline.dense ? "on" : "off",
-               config.run.debug_frames_dir.empty() ? "off" : config.run.debug_frames_dir);
+  spdlog::info("run: mode {}, {}, seed {}; effective settings in {}", ToString(config.pipeline.mode),
+               config.slam.single_thread ? "single thread" : "threaded", config.settings.loop.relocalizer.pnp.seed,
+               where);
+  spdlog::debug("run: sequence {} -> {}", config.run.sequence_dir, config.run.out_dir);
+  spdlog::debug("run: camera fx={} fy={} cx={} cy={} k=[{} {} {} {} {}] {}x{} fps={}", c.fx, c.fy, c.cx, c.cy, c.k1,
+                c.k2, c.p1, c.p2, c.k3, c.width, c.height, s.fps);
+  spdlog::debug("run: segmentation {}, dense {}, debug frames {}", realtime ? "real time (newest wins)" : "every frame",
+                config.pipeline.dense ? "on" : "off",
+                config.run.debug_frames_dir.empty() ? "off" : config.run.debug_frames_dir);
   std::istringstream lines(RunSettingsYaml(config.settings));
   std::string line;
   while (std::getline(lines, line)) {
-    if (line.rfind("%YAML", 0) != 0) spdlog::info("settings: {}", line);
+    if (line.rfind("%YAML", 0) != 0) spdlog::debug("settings: {}", line);
   }
 }
 

@@ -11,12 +11,14 @@
 // ResolveRunConfig is the only place where a flag or one setting decides another value:
 //   --no-loop, --no-relocalization  Loop.closing: 0, Loop.relocalization: 0
 //   --realtime                      Semantic.realtime: 1 (newest-wins segmentation hand-off)
+//   --seed                          the relocalization PnP RANSAC and loop verification RANSAC seeds
 //   Camera.fps                      slam.tracker.max_frames_between_keyframes (ORB-SLAM2: fps)
 //   --mode                          slam.geometry_check; slam.frame.mask_extraction (with
 //                                   segmentation the mask is known before extraction)
 //   --single-thread                 slam.single_thread; pipeline.threaded_dense = false
 //   --dense with run.out_dir        pipeline.dense_mask_dir = OUT/masks
 
+#include <cstdint>
 #include <string>
 
 #include "system/run_settings.h"
@@ -50,6 +52,7 @@ struct PipelineOptions {
 // The run loop's input and outputs (apps/esdslam/cmd_run.cpp).
 struct RunOptions {
   std::string sequence_dir;      // TUM-layout input folder
+  std::string associations;      // ORB-SLAM2 association file (io/tum_sequence.h); empty = lists or detected
   std::string out_dir;           // results folder (created)
   int max_frames = 0;            // process at most this many frames; 0 = all
   std::string debug_frames_dir;  // one debug PNG per frame (dynamic/debug_picture.h); empty = off
@@ -63,7 +66,9 @@ struct RunFlags {
   DynamicMode mode = DynamicMode::kFull;
   bool realtime = false;  // newest-wins segmentation (as Semantic.realtime: 1)
   bool single_thread = false;
-  unsigned seed = 0;
+  // Seeds the run's random choices: the RANSACs of relocalization (PnP) and of loop
+  // verification (rigid), via settings.loop. 1 is the options' default seed.
+  std::uint32_t seed = 1;
   bool no_relocalization = false;
   bool no_loop = false;
   bool dense = false;
@@ -89,7 +94,9 @@ int MaxFramesBetweenKeyframes(double fps);
 // result. Throws Error on a bad value or combination.
 RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags);
 
-// The effective configuration in the log: a few summary lines, then one line per settings key.
-void LogRunConfig(const RunConfig& config);
+// Writes the effective settings to OUT/settings_used.yaml (when run.out_dir is set; creates no
+// folder beyond SaveRunSettings') and logs one info line; the details and one line per key go
+// to the debug level (`esdslam -v`). Throws Error when the file cannot be written.
+void RecordRunConfig(const RunConfig& config);
 
 }  // namespace esdslam

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "common/error.h"
+#include "common/setting_error.h"
 #include "dense/dense_settings.h"
 #include "io/settings_table.h"
 
@@ -60,12 +61,12 @@ SettingsTable MakeTable(RunSettings& run, SemanticKeys& semantic) {
 
 void RunSettings::Check() const {
   core.Check();
-  if (mask_dilation_px < 0) throw Error("Dynamic.maskDilation must be >= 0");
-  region_growing.Check();
+  CheckRange("Dynamic.maskDilation", mask_dilation_px, 0, 200, "px");
+  region_growing.Check("Dynamic.grow.");
   geometry.Check();
   dense.Check();
   loop.Check();
-  semantic.groups.Check(semantic.onnx.class_names);
+  semantic.Check();
 }
 
 SemanticKeys SemanticKeys::From(const SemanticSettings& s) {
@@ -87,8 +88,10 @@ SemanticKeys SemanticKeys::From(const SemanticSettings& s) {
 SemanticSettings SemanticKeys::ToSemanticSettings(const std::string& settings_dir) const {
   SemanticSettings s;
   if (segmenter == "folder") s.kind = SemanticSettings::Kind::kFolder;
-  else if (segmenter != "onnx") throw Error("Semantic.segmenter must be onnx or folder, got '" + segmenter + "'");
+  else CheckSetting(segmenter == "onnx", "Semantic.segmenter", "must be onnx or folder, got '" + segmenter + "'");
   SetModel(s, model, settings_dir);  // also the input size from a _<W>x<H>.onnx name
+  CheckRange("Semantic.inputWidth", input_width, 0, 4096, "px (0 = from the model name)");
+  CheckRange("Semantic.inputHeight", input_height, 0, 4096, "px (0 = from the model name)");
   if (input_width > 0) s.onnx.input_width = input_width;
   if (input_height > 0) s.onnx.input_height = input_height;
   s.onnx.threads = threads;
@@ -144,24 +147,47 @@ void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
   table.Add("Dynamic.check.cullAfterFrames", &run.geometry.cull_after_frames);
 }
 
-RunSettings LoadRunSettings(const std::string& path, std::vector<std::string>* warnings) {
-  RunSettings run;
+namespace {
+
+// Reads `path` into `run` through the one key table; returns the key lines. Throws InputError.
+SettingsTable::KeyLines ReadRunSettings(const std::string& path, bool all_optional, RunSettings& run,
+                                        std::vector<std::string>* warnings) {
   SemanticKeys semantic = SemanticKeys::From(run.semantic);
   semantic.model = kDefaultSegmentationModel;
   semantic.input_width = semantic.input_height = 0;
-  const SettingsTable table = MakeTable(run, semantic);
-  std::vector<std::string> load_warnings = table.Load(path);
+  SettingsTable table = MakeTable(run, semantic);
+  if (all_optional) table.MakeAllOptional();
+  SettingsTable::KeyLines lines;
+  std::vector<std::string> load_warnings = table.Load(path, &lines);
   if (warnings) warnings->insert(warnings->end(), load_warnings.begin(), load_warnings.end());
-  try {
-    run.semantic = semantic.ToSemanticSettings(std::filesystem::path(path).parent_path().string());
-    run.loop.vocabulary = ResolveModelPath(run.loop.vocabulary, std::filesystem::path(path).parent_path().string());
-    run.Check();
-  } catch (const InputError&) {
-    throw;
-  } catch (const Error& e) {
-    throw InputError(path, 0, e.what());
-  }
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  CheckWithKeyLines(path, lines, [&] {
+    run.semantic = semantic.ToSemanticSettings(dir);
+    run.loop.vocabulary = ResolveModelPath(run.loop.vocabulary, dir);
+    ResolveOrbSlam3Keys(run.core, lines);
+  });
+  return lines;
+}
+
+}  // namespace
+
+RunSettings LoadRunSettings(const std::string& path, std::vector<std::string>* warnings) {
+  RunSettings run;
+  const SettingsTable::KeyLines lines = ReadRunSettings(path, false, run, warnings);
+  CheckWithKeyLines(path, lines, [&] { run.Check(); });
   return run;
+}
+
+SemanticSettings LoadSemanticSettings(const std::string& path) {
+  RunSettings run;
+  if (path.empty()) {
+    SetModel(run.semantic, kDefaultSegmentationModel);
+    CheckWithKeyLines("<default semantic settings>", {}, [&] { run.semantic.Check(); });
+    return run.semantic;
+  }
+  const SettingsTable::KeyLines lines = ReadRunSettings(path, true, run, nullptr);
+  CheckWithKeyLines(path, lines, [&] { run.semantic.Check(); });
+  return run.semantic;
 }
 
 std::string RunSettingsYaml(const RunSettings& settings) {

@@ -65,8 +65,14 @@ void BindSemanticSettings(SemanticKeys& keys, SettingsTable& table);
 void BindDynamicSettings(RunSettings& run, SettingsTable& table);
 
 // Loads, converts and checks. Unknown keys are warned about once (and appended to `warnings`).
-// Throws InputError for file/syntax/type errors and failed checks.
+// Throws InputError for file/syntax/type errors and failed checks (a value out of its range at
+// the line of its key).
 RunSettings LoadRunSettings(const std::string& path, std::vector<std::string>* warnings = nullptr);
+
+// The Semantic.* part of a settings file, through the same table (`esdslam segment`): no key is
+// required, only the semantic part is checked. Defaults (default model resolved) when `path`
+// is empty. Throws InputError.
+SemanticSettings LoadSemanticSettings(const std::string& path);
 
 // Writes every key of every stage (loadable by LoadRunSettings; core keys by ORB-SLAM2).
 void SaveRunSettings(const RunSettings& settings, const std::string& path);

@@ -31,7 +31,6 @@ namespace esdslam {
 
 struct SlamOptions {
   bool single_thread = false;  // local mapping on the caller's thread (deterministic)
-  unsigned seed = 0;           // seeds every random choice (none in the current pipeline)
   TrackerOptions tracker;      // a run sets max_frames_between_keyframes from Camera.fps (system/run_config.h)
   LocalMapperOptions mapping;
   FrameOptions frame;

@@ -134,8 +134,9 @@ TEST(Settings, SyntaxErrorDuplicateAndFailedCheck) {
   // The unclosed flow sequence is reported where the parser gives up: the end of the file (line 7).
   ExpectLoadError(dir.Write("a.yaml", std::string(kMinimal) + "Camera.k1: [1,\n"), 7, "YAML syntax error");
   ExpectLoadError(dir.Write("b.yaml", std::string(kMinimal) + "Camera.fx: 2\n"), 6, "duplicate key");
-  ExpectLoadError(dir.Write("c.yaml", std::string(kMinimal) + "Camera.RGB: 2\n"), 0, "Camera.RGB");
-  ExpectLoadError(dir.Write("d.yaml", std::string(kMinimal) + "ORBextractor.scaleFactor: 1.0\n"), 0, "scaleFactor");
+  // A failed range check is reported at the line of its key.
+  ExpectLoadError(dir.Write("c.yaml", std::string(kMinimal) + "Camera.RGB: 2\n"), 6, "Camera.RGB");
+  ExpectLoadError(dir.Write("d.yaml", std::string(kMinimal) + "ORBextractor.scaleFactor: 1.0\n"), 6, "scaleFactor");
   ExpectLoadError(dir.Path("none.yaml"), 0, "not found");
 }
 

@@ -1,4 +1,4 @@
-#include "semantic/semantic_settings.h"
+#include "system/run_settings.h"
 
 #include <filesystem>
 #include <fstream>
