@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <exception>
 #include <map>
+#include <memory>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -40,7 +41,8 @@ int main(int argc, char** argv) {
   }
   // Every log line (info, warnings, errors) goes to stderr; stdout carries only results
   // (summaries, `eval --json`), so that `esdslam eval --json > r.json` is valid JSON.
-  spdlog::set_default_logger(spdlog::stderr_color_mt("esdslam"));
+  spdlog::set_default_logger(
+      std::make_shared<spdlog::logger>("", std::make_shared<spdlog::sinks::stderr_color_sink_mt>()));
   spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
   try {
     for (const auto& [sub, run] : runners) {
