@@ -61,6 +61,8 @@ SettingsTable MakeTable(RunSettings& run, SemanticKeys& semantic) {
 void RunSettings::Check() const {
   core.Check();
   if (mask_dilation_px < 0) throw Error("Dynamic.maskDilation must be >= 0");
+  if (max_consecutive_bad_frames < 1 || max_consecutive_bad_frames > 100000)
+    throw Error("Sequence.maxConsecutiveBadFrames must be in [1, 100000]");
   region_growing.Check();
   geometry.Check();
   dense.Check();
@@ -122,6 +124,7 @@ void BindSemanticSettings(SemanticKeys& k, SettingsTable& table) {
 
 void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
   table.Add("Dynamic.maskDilation", &run.mask_dilation_px);
+  table.Add("Sequence.maxConsecutiveBadFrames", &run.max_consecutive_bad_frames);
   BindGrowing("Dynamic.grow.", run.region_growing, table);
   GeometryCheckOptions& g = run.geometry.check;
   table.Add("Dynamic.check.maxParallax", &g.max_parallax_deg);
