@@ -10,7 +10,7 @@ namespace {
 volatile std::sig_atomic_t g_stop_signal = 0;
 
 // Async-signal-safe: a flag, write(2) and _exit only.
-extern "C" void OnStopSignal(int signal_number) {
+void OnStopSignal(int signal_number) {
   if (g_stop_signal != 0) ::_exit(128 + signal_number);
   g_stop_signal = signal_number;
   static const char kMessage[] = "\nesdslam: stopping after the current frame; signal again to quit at once\n";

@@ -150,7 +150,7 @@ TEST(AnchoredVoxelMap, RepeatedPoseChangesKeepTheIndexConsistent) {
 // Regression (issue 14): Dense.voxelSize: 1e-6 with depth noise made the probe along each
 // viewing ray step through millions of voxels per point, and the dense thread never finished.
 // The probe is capped; the wall's readings are all kept (each its own voxel).
-TEST(AnchoredVoxelMapTest, AVoxelFarBelowTheDepthNoiseStillIntegrates) {
+TEST(AnchoredVoxelMap, AVoxelFarBelowTheDepthNoiseStillIntegrates) {
   std::mt19937 rng(3);
   AnchoredVoxelMap map(1e-6, 0.05);
   const Rigid3 viewer = WallViewer(0, &rng);
