@@ -1,8 +1,12 @@
 // `esdslam run --settings FILE --sequence DIR --out DIR [--mode none|semantic|geometry|full]`: runs the SLAM
 // system over a TUM-layout RGB-D sequence and writes trajectory.txt, keyframes.txt, timing.csv and
-// settings_used.yaml (every stage's keys); with --dense also the dense map. The settings file and
+// settings_used.yaml (every stage's keys); with --dense also the dense map. trajectory.txt,
+// keyframes.txt and timing.csv grow frame by frame (system/live_outputs.h); SIGINT/SIGTERM stop
+// the run after the current frame with every output written (stop_signals.h). The settings file and
 // the flags are resolved here, once, into the run's configuration (system/run_config.h); the
 // frames go through the pipeline by the run loop (system/run_loop.h).
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -12,11 +16,14 @@
 #include <spdlog/spdlog.h>
 
 #include "apps/esdslam/commands.h"
+#include "apps/esdslam/stop_signals.h"
 #include "common/error.h"
 #include "common/timer.h"
 #include "io/frame_source.h"
 #include "io/tum_sequence.h"
 #include "system/frame_log.h"
+#include "system/init_diagnosis.h"
+#include "system/live_outputs.h"
 #include "system/pipeline.h"
 #include "system/run_config.h"
 #include "system/run_loop.h"
@@ -32,23 +39,61 @@ struct RunArgs {
   RunFlags flags;
 };
 
-void ShowProgress(const FrameReport& report, std::size_t n, const SlamSystem& system, double elapsed_ms) {
-  const std::size_t done = static_cast<std::size_t>(report.index) + 1;
-  if (done % 10 != 0 && done != n) return;
-  std::fprintf(stderr, "\rframe %zu/%zu  %.1f fps  %-15s  keyframes %d  map points %d   ", done, n,
-               1000.0 * static_cast<double>(done) / std::max(1.0, elapsed_ms), ToString(report.track.state),
-               system.num_keyframes(), system.num_map_points());
-  if (done == n) std::fprintf(stderr, "\n");
-}
+// The progress line on stderr: redrawn in place every 10 frames on a terminal; into a file or a
+// pipe a plain line every few seconds (no carriage returns), and the last frame's line.
+class Progress {
+ public:
+  explicit Progress(std::size_t total) : total_(total), terminal_(::isatty(STDERR_FILENO) != 0) {}
+  void Show(const FrameReport& report, const SlamSystem& system, double elapsed_ms) {
+    const std::size_t done = static_cast<std::size_t>(report.index) + 1;
+    const bool last = done == total_;
+    if (terminal_ ? (done % 10 != 0 && !last) : (elapsed_ms < next_line_ms_ && !last)) return;
+    next_line_ms_ = elapsed_ms + kPlainLineIntervalMs;
+    std::fprintf(stderr, "%sframe %zu/%zu  %.1f fps  %-15s  keyframes %d  map points %d%s", terminal_ ? "\r" : "",
+                 done, total_, 1000.0 * static_cast<double>(done) / std::max(1.0, elapsed_ms),
+                 ToString(report.track.state), system.num_keyframes(), system.num_map_points(),
+                 terminal_ ? (last ? "   \n" : "   ") : "\n");
+    pending_newline_ = terminal_ && !last;
+  }
+  // Ends a line redrawn in place before a log line is printed.
+  void Break() {
+    if (pending_newline_) std::fprintf(stderr, "\n");
+    pending_newline_ = false;
+  }
 
-// Writes every result and prints the summary; returns the exit status.
-int Conclude(Pipeline& pipeline, const FrameLog& log, std::size_t total_frames, double loop_ms, bool failed) {
+ private:
+  static constexpr double kPlainLineIntervalMs = 5000;
+  std::size_t total_;
+  bool terminal_;
+  double next_line_ms_ = kPlainLineIntervalMs;
+  bool pending_newline_ = false;
+};
+
+struct RunEnd {
+  bool failed = false;   // a stage, the source or an output failed
+  int stop_signal = 0;   // stopped by this signal (SIGINT, SIGTERM), 0 = not
+};
+
+// Writes every result and prints the summary; returns the exit status: 0, 1 on a failure or a
+// map that never initialised, 128 + signal when stopped by one.
+int Conclude(Pipeline& pipeline, LiveOutputs& live, const FrameLog& log, const InitDiagnosis& init,
+             std::size_t total_frames, std::size_t unreadable, double loop_ms, RunEnd end) {
   const RunConfig& config = pipeline.config();
-  WriteRunResults(pipeline, log, config.run.out_dir);
-  std::fputs(FormatRunSummary(log, total_frames, pipeline.system(), loop_ms).c_str(), stdout);
-  if (failed) return 1;
-  if (!config.run.save_map.empty()) pipeline.system().SaveMap(config.run.save_map);
-  return 0;
+  try {
+    WriteRunResults(pipeline, live, config.run.out_dir);
+  } catch (const std::exception&) {
+    end.failed = true;  // (logged by WriteRunResults)
+  }
+  std::fputs(FormatRunSummary(log, total_frames, pipeline.system(), loop_ms, unreadable).c_str(), stdout);
+  std::fflush(stdout);
+  const std::string reason = init.Reason(config.slam.tracker.min_initial_depth_keypoints);
+  if (!reason.empty()) spdlog::error("run: {}", reason);
+  if (end.stop_signal == 0) end.stop_signal = StopSignal();  // a signal while writing
+  if (end.stop_signal != 0) {
+    spdlog::warn("run: stopped by signal {} after {} frames; every output is written", end.stop_signal, log.size());
+    return 128 + end.stop_signal;
+  }
+  return end.failed || !reason.empty() ? 1 : 0;
 }
 
 int Run(RunArgs args) {
@@ -62,25 +107,40 @@ int Run(RunArgs args) {
   RecordRunConfig(config);
   std::size_t n = sequence.frames().size();
   if (config.run.max_frames > 0) n = std::min<std::size_t>(n, config.run.max_frames);
+  FolderSourceOptions source_options;
+  source_options.max_consecutive_bad_frames = config.settings.max_consecutive_bad_frames;
+  source_options.image_size = {config.settings.core.camera.width, config.settings.core.camera.height};
   TumFolderSource source({sequence.frames().begin(), sequence.frames().begin() + n},
-                         config.settings.core.depth_map_factor);
+                         config.settings.core.depth_map_factor, source_options);
+  InstallStopSignals();
   Pipeline pipeline(config);
+  LiveOutputs live(config.run.out_dir);
   const std::string& debug_dir = config.run.debug_frames_dir;
   if (!debug_dir.empty()) std::filesystem::create_directories(debug_dir);
   FrameLog log;
+  InitDiagnosis init;
+  Progress progress(n);
   Stopwatch total;
+  RunEnd end;
   try {
-    RunFrames(source, pipeline, [&](const FrameReport& report) {
-      if (!debug_dir.empty()) WriteDebugFrame(debug_dir, report);
-      log.Add(report);
-      ShowProgress(report, n, pipeline.system(), total.ElapsedMs());
-    });
-  } catch (const Error& e) {
-    std::fprintf(stderr, "\n");
+    const bool stopped = RunFrames(
+        source, pipeline,
+        [&](const FrameReport& report) {
+          log.Add(report);
+          init.Add(report);
+          live.Add(report, log.row(log.size() - 1));
+          if (!debug_dir.empty()) WriteDebugFrame(debug_dir, report);
+          progress.Show(report, pipeline.system(), total.ElapsedMs());
+        },
+        [] { return StopSignal() != 0; });
+    if (stopped) end.stop_signal = StopSignal();
+  } catch (const std::exception& e) {  // esdslam::Error, cv::Exception from a stage, bad_alloc
+    progress.Break();
     spdlog::error("run: stopped at frame {}: {}", log.size(), e.what());
-    return Conclude(pipeline, log, n, total.ElapsedMs(), true);
+    end.failed = true;
   }
-  return Conclude(pipeline, log, n, total.ElapsedMs(), false);
+  progress.Break();
+  return Conclude(pipeline, live, log, init, n, source.frames_skipped(), total.ElapsedMs(), end);
 }
 
 RunFn Setup(CLI::App& app) {

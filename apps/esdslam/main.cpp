@@ -1,5 +1,6 @@
 // esdslam: command-line entry point. See README.md "CLI reference".
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <map>
@@ -44,6 +45,9 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(
       std::make_shared<spdlog::logger>("", std::make_shared<spdlog::sinks::stderr_color_sink_mt>()));
   spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
+  // A file-size limit (ulimit -f) or a full disk must be a write error naming the file, not a
+  // kill by SIGXFSZ with a file cut off mid-line.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     for (const auto& [sub, run] : runners) {
       if (sub->parsed()) return run();

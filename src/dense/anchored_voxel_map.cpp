@@ -100,7 +100,11 @@ void AnchoredVoxelMap::Integrate(long keyframe_id, const Rigid3& world_from_cam,
 const AnchoredVoxelMap::PointRef* AnchoredVoxelMap::NearPointOnRay(const Eigen::Vector3f& p_world, const Eigen::Vector3f& ray,
                                                                    float radius) const {
   const float voxel = static_cast<float>(voxel_size_);
-  const int steps = std::max(1, static_cast<int>(std::ceil(radius / voxel)));
+  // At most kMaxRaySteps voxels each way: with a voxel far below the depth noise (e.g.
+  // Dense.voxelSize: 1e-6) the radius spans millions of voxels, and a probe per voxel would
+  // never finish. The default voxel reaches the cap only beyond ~14 m of depth.
+  constexpr float kMaxRaySteps = 64;
+  const int steps = static_cast<int>(std::clamp(std::ceil(radius / voxel), 1.0f, kMaxRaySteps));
   for (int step = 1; step <= steps; ++step)
     for (const float side : {-1.0f, 1.0f}) {
       const auto it = index_.find(VoxelKey(p_world + (side * step * voxel) * ray, voxel_size_));

@@ -101,7 +101,7 @@ class AnchoredVoxelMap {
   // Adds an observation at world position p_world to the point `ref` (into its anchor's frame).
   void Accumulate(const PointRef& ref, const Eigen::Vector3f& p_world, const float color_x128[3], float weight);
   // The nearest point found in the voxels stepped through along the unit viewing ray `ray` (both
-  // ways, up to `radius`) that lies within `radius` of p_world and less than 45 degrees off the
+  // ways, up to `radius` but at most 64 voxels) that lies within `radius` of p_world and less than 45 degrees off the
   // ray, else null.
   const PointRef* NearPointOnRay(const Eigen::Vector3f& p_world, const Eigen::Vector3f& ray, float radius) const;
   // Indexes point `index` of `slot` at its anchor's pose; merges it into an existing point instead.

@@ -38,6 +38,10 @@ cv::Mat DepthBackprojector::ExclusionMask(const cv::Mat& dynamic_mask, cv::Size 
     throw Error("dense: dynamic mask must be CV_8U with the depth image's size");
   cv::Mat binary = dynamic_mask > 0;
   if (options_.mask_dilation_px <= 0) return binary;
+  // A radius past the image's diagonal (+2 px kernel rounding) covers the whole image from any
+  // pixel: the result is known without building the (2r+1)^2 kernel (a setting cannot ask for GBs).
+  if (options_.mask_dilation_px >= std::hypot(size.width, size.height) + 2)
+    return cv::countNonZero(binary) > 0 ? cv::Mat(size, CV_8U, cv::Scalar(255)) : cv::Mat::zeros(size, CV_8U);
   const int k = 2 * options_.mask_dilation_px + 1;
   cv::Mat dilated;
   cv::dilate(binary, dilated, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k)));

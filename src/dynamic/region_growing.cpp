@@ -7,13 +7,11 @@
 
 #include "common/error.h"
 #include "common/setting_error.h"
+#include "dynamic/mask_dilation.h"
 
 namespace esdslam {
 namespace {
 
-cv::Mat Ellipse(int radius) {
-  return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
-}
 
 struct SeedGroup {
   std::vector<cv::Point> seeds;
@@ -92,7 +90,7 @@ void GrowSeedLayers(const cv::Mat& depth_m, const cv::Mat& raw_mask, const std::
 // Mask pixels without valid depth, dilated: depth cannot decide them, so they stay dynamic.
 cv::Mat NoDepthPart(const cv::Mat& raw_mask, const cv::Mat& depth_m, int dilation_px) {
   cv::Mat no_depth = (raw_mask != 0) & (depth_m <= 0);
-  if (dilation_px > 0 && cv::countNonZero(no_depth) > 0) cv::dilate(no_depth, no_depth, Ellipse(dilation_px));
+  if (dilation_px > 0 && cv::countNonZero(no_depth) > 0) no_depth = DilateEllipse(no_depth, dilation_px);
   return no_depth;
 }
 

@@ -6,19 +6,14 @@
 
 #include "common/error.h"
 #include "common/timer.h"
+#include "dynamic/mask_dilation.h"
 
 namespace esdslam {
 namespace {
 
 constexpr std::size_t kPoseHistory = 64;
 
-cv::Mat Dilate(const cv::Mat& mask, int radius_px) {
-  if (radius_px <= 0 || mask.empty()) return mask;
-  cv::Mat out;
-  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius_px + 1, 2 * radius_px + 1));
-  cv::dilate(mask, out, kernel);
-  return out;
-}
+cv::Mat Dilate(const cv::Mat& mask, int radius_px) { return DilateEllipse(mask, radius_px); }
 
 // Region growing decides the boundary band; the network's interior (mask eroded by
 // kCoreErosionPx) stays dynamic even where growth did not reach it (parts split off by an

@@ -29,11 +29,22 @@ class FrameSource {
  public:
   virtual ~FrameSource() = default;
   // The next frame, or nullopt after the last one. Throws InputError naming the file (or the
-  // device) when a frame cannot be read.
+  // device) when frames cannot be read (a source may skip single bad frames, see below).
   virtual std::optional<RgbdFrame> Next() = 0;
   // Frames this source will return in all, when known in advance (progress); nullopt for a
   // live source.
   virtual std::optional<std::size_t> frame_count() const = 0;
+};
+
+// What TumFolderSource accepts.
+struct FolderSourceOptions {
+  // A frame whose image cannot be read (missing since the listing, corrupt, wrong type) is
+  // skipped with a warning; this many such frames in a row end the run with an InputError.
+  int max_consecutive_bad_frames = 10;
+  // Every image must have this size (the settings' Camera.width/height); an image of another size
+  // is an InputError naming the file (not skipped: the intrinsics do not fit it). Empty: any.
+  cv::Size image_size;
+  void Check() const;  // throws Error: max_consecutive_bad_frames >= 1, image_size empty or positive
 };
 
 // The frames of a TUM-layout sequence (io/tum_sequence.h), read from disk one per Next().
@@ -41,14 +52,19 @@ class TumFolderSource final : public FrameSource {
  public:
   // frames: in time order (e.g. the first N of TumSequence::frames()); depth_map_factor as in
   // LoadRgbd.
-  TumFolderSource(std::vector<FrameEntry> frames, double depth_map_factor);
+  TumFolderSource(std::vector<FrameEntry> frames, double depth_map_factor, const FolderSourceOptions& options = {});
   std::optional<RgbdFrame> Next() override;
+  // Every listed frame, the skipped ones included.
   std::optional<std::size_t> frame_count() const override { return frames_.size(); }
+  // Frames skipped so far because an image could not be read.
+  std::size_t frames_skipped() const { return skipped_; }
 
  private:
   std::vector<FrameEntry> frames_;
   double depth_map_factor_;
+  FolderSourceOptions options_;
   std::size_t next_ = 0;
+  std::size_t skipped_ = 0;
 };
 
 }  // namespace esdslam

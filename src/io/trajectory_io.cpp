@@ -1,6 +1,9 @@
 #include "io/trajectory_io.h"
 
+#include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -46,22 +49,35 @@ std::vector<StampedPose> ReadTumTrajectory(const std::string& path) {
   return poses;
 }
 
+std::string FormatTumPoseLine(const StampedPose& pose) {
+  const Vec3& t = pose.world_from_cam.translation();
+  const Quat& q = pose.world_from_cam.rotation();
+  // "+ 0.0" turns -0 into 0 so files do not show "-0".
+  char line[256];
+  const int n = std::snprintf(line, sizeof(line), "%.6f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", pose.timestamp, t.x() + 0.0,
+                              t.y() + 0.0, t.z() + 0.0, q.x() + 0.0, q.y() + 0.0, q.z() + 0.0, q.w() + 0.0);
+  return std::string(line, static_cast<std::size_t>(std::clamp(n, 0, static_cast<int>(sizeof(line)) - 1)));
+}
+
 void WriteTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   std::error_code ignored;
   if (!parent.empty()) std::filesystem::create_directories(parent, ignored);
-  std::FILE* file = std::fopen(path.c_str(), "w");
-  if (!file) throw Error("cannot write trajectory file " + path);
-  std::fprintf(file, "# timestamp tx ty tz qx qy qz qw (world_from_cam)\n");
-  for (const StampedPose& pose : poses) {
-    const Vec3& t = pose.world_from_cam.translation();
-    const Quat& q = pose.world_from_cam.rotation();
-    // "+ 0.0" turns -0 into 0 so files do not show "-0".
-    std::fprintf(file, "%.6f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", pose.timestamp, t.x() + 0.0, t.y() + 0.0, t.z() + 0.0,
-                 q.x() + 0.0, q.y() + 0.0, q.z() + 0.0, q.w() + 0.0);
+  // Written beside, then renamed over the file: a failed write (full disk, file-size limit)
+  // leaves the previous file as it was.
+  const std::string temp = path + ".partial";
+  std::FILE* file = std::fopen(temp.c_str(), "w");
+  if (!file) throw Error(fmt::format("cannot write trajectory file {}: {}", path, std::strerror(errno)));
+  std::string text = kTumTrajectoryHeader;
+  for (const StampedPose& pose : poses) text += FormatTumPoseLine(pose);
+  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size() && std::fflush(file) == 0;
+  const int write_errno = errno;
+  if (std::fclose(file) != 0 || !written) {
+    std::remove(temp.c_str());
+    throw Error(fmt::format("error while writing trajectory file {}: {}", path, std::strerror(write_errno)));
   }
-  const bool failed = std::ferror(file) != 0;
-  if (std::fclose(file) != 0 || failed) throw Error("error while writing trajectory file " + path);
+  if (std::rename(temp.c_str(), path.c_str()) != 0)
+    throw Error(fmt::format("cannot replace trajectory file {}: {}", path, std::strerror(errno)));
 }
 
 }  // namespace esdslam

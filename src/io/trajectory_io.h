@@ -21,8 +21,15 @@ struct StampedPose {
 // normalised. An empty file gives an empty vector.
 std::vector<StampedPose> ReadTumTrajectory(const std::string& path);
 
-// Writes timestamps with 6 decimals and pose values with 9 significant digits. Creates the
-// parent folder if needed. Throws Error when the file cannot be written.
+// The first line of every trajectory file written here.
+inline constexpr const char* kTumTrajectoryHeader = "# timestamp tx ty tz qx qy qz qw (world_from_cam)\n";
+
+// One pose line, newline included: timestamp with 6 decimals, pose values with 9 significant digits.
+std::string FormatTumPoseLine(const StampedPose& pose);
+
+// Writes the header and FormatTumPoseLine of every pose into PATH.partial, then renames it over
+// PATH (a failed write leaves an existing PATH unchanged). Creates the parent folder if needed.
+// Throws Error naming the file and the system's reason when it cannot be written.
 void WriteTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses);
 
 }  // namespace esdslam

@@ -26,6 +26,14 @@ cv::Mat Union(const cv::Mat& a, const cv::Mat& b) {
   return a | b;
 }
 
+// The frame's images must have the size the camera settings describe (else the intrinsics do
+// not fit them).
+void CheckImageSize(const RgbdFrame& frame, const CameraIntrinsics& camera) {
+  if (frame.bgr.cols == camera.width && frame.bgr.rows == camera.height) return;
+  throw Error(fmt::format("frame {:.6f}: image is {}x{}, but the settings' Camera.width/Camera.height are {}x{}",
+                          frame.timestamp, frame.bgr.cols, frame.bgr.rows, camera.width, camera.height));
+}
+
 const RunConfig& Checked(const RunConfig& config) {
   config.Check();
   return config;
@@ -69,14 +77,15 @@ Pipeline::~Pipeline() {
 }
 
 void Pipeline::SubmitAhead(const RgbdFrame& frame) {
-  if (finished_) throw Error("pipeline: frame submitted after Finish");
+  if (slam_stopped_) throw Error("pipeline: frame submitted after Finish");
   if (semantic_) semantic_->Submit(next_id_, frame.timestamp, frame.bgr);
   ++next_id_;
   ahead_.push_back(frame.timestamp);
 }
 
 FrameReport Pipeline::Track(const RgbdFrame& frame) {
-  if (finished_) throw Error("pipeline: Track after Finish");
+  if (slam_stopped_) throw Error("pipeline: Track after Finish");
+  CheckImageSize(frame, config_.settings.core.camera);
   if (ahead_.empty()) SubmitAhead(frame);
   if (ahead_.front() != frame.timestamp)
     throw Error(fmt::format("pipeline: frame {:.6f} tracked, but frame {:.6f} was submitted first", frame.timestamp,
@@ -107,11 +116,17 @@ void Pipeline::AddDenseKeyframe(const RgbdFrame& frame, const cv::Mat& mask, Key
   dense_->AddKeyframe({keyframe->id(), frame.timestamp, keyframe->world_from_cam(), frame.bgr, frame.depth_m, mask});
 }
 
+void Pipeline::StopSlam() {
+  if (slam_stopped_) return;
+  slam_stopped_ = true;
+  if (semantic_) semantic_->Stop();
+  system_->Shutdown();
+}
+
 void Pipeline::Finish(const std::string& out_dir) {
   if (finished_) return;
   finished_ = true;
-  if (semantic_) semantic_->Stop();
-  system_->Shutdown();
+  StopSlam();
   if (!dense_) return;
   std::string dense_error;  // the keyframes integrated so far are still written
   try {

@@ -55,7 +55,11 @@ class Pipeline {
   // Tracks the oldest frame submitted ahead (it must be `frame`: same timestamp), or `frame` if
   // none waits. Throws Error on bad images, a failed stage, or after Finish.
   FrameReport Track(const RgbdFrame& frame);
-  // Stops the threads; with dense, writes out_dir/dense.ply, octomap.bt, dense_top.png,
+  // Stops segmentation, local mapping and loop closing (SlamSystem::Shutdown): the trajectory
+  // is final afterwards; the dense thread goes on. Idempotent; Track throws afterwards. Throws
+  // Error when a thread failed.
+  void StopSlam();
+  // StopSlam, then stops the dense thread; with dense, writes out_dir/dense.ply, octomap.bt, dense_top.png,
   // dense_view.png and dense_keyframes.txt (every dense keyframe, culled ones included) at the
   // keyframes' final poses. Idempotent. Throws Error when a thread failed (the dense outputs are written first).
   void Finish(const std::string& out_dir);
@@ -77,6 +81,7 @@ class Pipeline {
   std::unique_ptr<DenseMapper> dense_;
   std::int64_t next_id_ = 0;         // id of the next frame submitted
   std::deque<double> ahead_;         // timestamps of the frames submitted but not tracked, oldest first
+  bool slam_stopped_ = false;  // StopSlam ran: no more frames
   bool finished_ = false;
 };
 

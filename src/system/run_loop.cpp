@@ -19,7 +19,10 @@ std::optional<RgbdFrame> TakeAhead(FrameSource& source, Pipeline& pipeline, doub
 
 }  // namespace
 
-void RunFrames(FrameSource& source, Pipeline& pipeline, const FrameCallback& on_frame) {
+bool RunFrames(FrameSource& source, Pipeline& pipeline, const FrameCallback& on_frame,
+               const StopPredicate& stop_requested) {
+  const auto stop = [&stop_requested] { return stop_requested && stop_requested(); };
+  if (stop()) return true;
   double load_ms = 0;  // loading done during the current frame's step
   std::optional<RgbdFrame> current = TakeAhead(source, pipeline, &load_ms);
   while (current) {
@@ -28,8 +31,10 @@ void RunFrames(FrameSource& source, Pipeline& pipeline, const FrameCallback& on_
     report.load_ms = load_ms;
     load_ms = 0;
     on_frame(report);
+    if (stop()) return true;
     current = std::move(next);
   }
+  return false;
 }
 
 }  // namespace esdslam

@@ -17,8 +17,14 @@ namespace esdslam {
 
 using FrameCallback = std::function<void(const FrameReport&)>;
 
-// Returns after the source's last frame. What the source, a stage or on_frame throws is passed
+// Asked after each frame's on_frame (and before the first frame): true = stop the run there.
+// A signal handler's flag, a viewer's close button; it must be quick (no waiting).
+using StopPredicate = std::function<bool()>;
+
+// Returns after the source's last frame (false), or when stop_requested said so (true; the
+// frame submitted ahead is not tracked). What the source, a stage or on_frame throws is passed
 // on; every frame tracked before it has been given to on_frame.
-void RunFrames(FrameSource& source, Pipeline& pipeline, const FrameCallback& on_frame);
+bool RunFrames(FrameSource& source, Pipeline& pipeline, const FrameCallback& on_frame,
+               const StopPredicate& stop_requested = nullptr);
 
 }  // namespace esdslam

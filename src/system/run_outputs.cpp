@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "common/error.h"
@@ -19,20 +20,36 @@ void WriteDebugFrame(const std::string& dir, const FrameReport& report) {
   if (!cv::imwrite(path, picture)) throw Error("cannot write " + path);
 }
 
-void WriteRunResults(Pipeline& pipeline, const FrameLog& log, const std::string& out_dir) {
-  std::string shutdown_error;  // results are written even when local mapping failed
+namespace {
+
+// Runs step; keeps the first Error (or other exception, e.g. cv::Exception) in *first_error.
+template <typename Step>
+void Try(std::string* first_error, Step&& step) {
   try {
-    pipeline.Finish(out_dir);
-  } catch (const Error& e) {
-    shutdown_error = e.what();
+    step();
+  } catch (const std::exception& e) {
+    spdlog::error("run: {}", e.what());
+    if (first_error->empty()) *first_error = e.what();
   }
-  const std::filesystem::path out(out_dir);
+}
+
+}  // namespace
+
+void WriteRunResults(Pipeline& pipeline, LiveOutputs& live, const std::string& out_dir) {
+  std::string error;  // every output is tried, also after a failure; the first one is rethrown
   const SlamSystem& system = pipeline.system();
-  WriteTumTrajectory((out / "trajectory.txt").string(), system.Trajectory());
-  WriteTumTrajectory((out / "keyframes.txt").string(), system.KeyFrameTrajectory());
-  log.WriteCsv((out / "timing.csv").string());
-  SaveRunSettings(pipeline.config().settings, (out / "settings_used.yaml").string());
-  if (!shutdown_error.empty()) throw Error(shutdown_error);
+  Try(&error, [&] { live.WritePoses(system); });  // before any thread is joined
+  bool slam_stopped = false;
+  Try(&error, [&] {
+    pipeline.StopSlam();
+    slam_stopped = true;
+  });
+  if (slam_stopped) Try(&error, [&] { live.WritePoses(system); });  // the final poses
+  Try(&error, [&] { SaveRunSettings(pipeline.config().settings, (std::filesystem::path(out_dir) / "settings_used.yaml").string()); });
+  const std::string& map_path = pipeline.config().run.save_map;
+  if (slam_stopped && !map_path.empty()) Try(&error, [&] { pipeline.system().SaveMap(map_path); });
+  Try(&error, [&] { pipeline.Finish(out_dir); });  // the dense thread, then the dense outputs
+  if (!error.empty()) throw Error(error);
 }
 
 namespace {
@@ -63,11 +80,12 @@ std::string FormatLoopSummary(const LoopClosingStats& loops) {
 }  // namespace
 
 std::string FormatRunSummary(const FrameLog& log, std::size_t total_frames, const SlamSystem& system,
-                             double elapsed_ms) {
+                             double elapsed_ms, std::size_t frames_unreadable) {
   const std::vector<double> lost = log.Values("lost");
   const long tracked = static_cast<long>(lost.size()) - static_cast<long>(Sum(lost));
   std::string text = FormatStageSummary(log);
   text += fmt::format("frames_tracked {} / {} (processed {})\n", tracked, total_frames, log.size());
+  text += fmt::format("frames_skipped {} (images that could not be read)\n", frames_unreadable);
   text += fmt::format("fps {:.1f} (frames processed per second of wall time)\n",
                       1000.0 * static_cast<double>(log.size()) / std::max(1.0, elapsed_ms));
   text += fmt::format("points_culled_by_geometry {}\n", static_cast<long>(Sum(log.Values("geometry_culled"))));

@@ -62,6 +62,7 @@ SettingsTable MakeTable(RunSettings& run, SemanticKeys& semantic) {
 void RunSettings::Check() const {
   core.Check();
   CheckRange("Dynamic.maskDilation", mask_dilation_px, 0, 200, "px");
+  CheckRange("Sequence.maxConsecutiveBadFrames", max_consecutive_bad_frames, 1, 100000, "frames");
   region_growing.Check("Dynamic.grow.");
   geometry.Check();
   dense.Check();
@@ -125,6 +126,7 @@ void BindSemanticSettings(SemanticKeys& k, SettingsTable& table) {
 
 void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
   table.Add("Dynamic.maskDilation", &run.mask_dilation_px);
+  table.Add("Sequence.maxConsecutiveBadFrames", &run.max_consecutive_bad_frames);
   BindGrowing("Dynamic.grow.", run.region_growing, table);
   GeometryCheckOptions& g = run.geometry.check;
   table.Add("Dynamic.check.maxParallax", &g.max_parallax_deg);

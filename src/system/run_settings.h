@@ -35,6 +35,9 @@ struct RunSettings {
   GeometryFilterOptions geometry;  // the multi-view geometry check in tracking (modes geometry, full)
   DenseOptions dense;
   int mask_dilation_px = 10;  // Dynamic.maskDilation: final dynamic mask grown by this (px) for tracking
+  // Sequence.maxConsecutiveBadFrames: unreadable frames are skipped with a warning, this many in
+  // a row stop the run with an error (io/frame_source.h). 1..100000.
+  int max_consecutive_bad_frames = 10;
   LoopOptions loop;  // Loop.* keys (system/loop_settings.h); vocabulary path resolved on load
 
   void Check() const;  // throws Error

@@ -147,5 +147,17 @@ TEST(AnchoredVoxelMap, RepeatedPoseChangesKeepTheIndexConsistent) {
   EXPECT_LT(map.num_points(), 25000u);  // eight copies of a 10^4-voxel wall stay merged into <= 2 layers
 }
 
+// Regression (issue 14): Dense.voxelSize: 1e-6 with depth noise made the probe along each
+// viewing ray step through millions of voxels per point, and the dense thread never finished.
+// The probe is capped; the wall's readings are all kept (each its own voxel).
+TEST(AnchoredVoxelMap, AVoxelFarBelowTheDepthNoiseStillIntegrates) {
+  std::mt19937 rng(3);
+  AnchoredVoxelMap map(1e-6, 0.05);
+  const Rigid3 viewer = WallViewer(0, &rng);
+  map.Integrate(0, viewer, ObserveWall(viewer, &rng, 60));
+  EXPECT_GT(map.num_points(), 3000u);
+  EXPECT_LE(map.num_points(), 3600u);
+}
+
 }  // namespace
 }  // namespace esdslam

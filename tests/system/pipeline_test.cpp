@@ -125,7 +125,9 @@ TEST(PipelineTest, SourceErrorsReachTheCallerAfterTheFramesBefore) {
   std::vector<FrameEntry> entries = TumSequence::Open(testing::DynamicTestSequence(kFrames)).frames();
   entries.resize(4);
   entries[3].depth_path += ".missing";
-  TumFolderSource source(entries, config.settings.core.depth_map_factor);
+  FolderSourceOptions strict;  // the first bad frame fails (default: skipped, see io/frame_source_test.cpp)
+  strict.max_consecutive_bad_frames = 1;
+  TumFolderSource source(entries, config.settings.core.depth_map_factor, strict);
   EXPECT_EQ(source.frame_count(), 4u);
   Pipeline pipeline(config);
   int reported = 0;
