@@ -11,5 +11,6 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   libyaml-cpp-dev libspdlog-dev libfmt-dev libcli11-dev libtbb-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
   python3 python3-numpy python3-torch python3-onnx python3-pil \
+  chromium \
   >/dev/null
 echo "install_deps: done"

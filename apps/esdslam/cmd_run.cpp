@@ -16,6 +16,7 @@
 #include "common/timer.h"
 #include "io/frame_source.h"
 #include "io/tum_sequence.h"
+#include "report/run_report.h"
 #include "system/frame_log.h"
 #include "system/pipeline.h"
 #include "system/run_config.h"
@@ -30,6 +31,7 @@ struct RunArgs {
   std::string settings_path;
   std::string mode = "full";
   RunFlags flags;
+  bool report = false;  // --report: OUT/report.html at the end (report/run_report.h)
 };
 
 void ShowProgress(const FrameReport& report, std::size_t n, const SlamSystem& system, double elapsed_ms) {
@@ -41,11 +43,25 @@ void ShowProgress(const FrameReport& report, std::size_t n, const SlamSystem& sy
   if (done == n) std::fprintf(stderr, "\n");
 }
 
-// Writes every result and prints the summary; returns the exit status.
-int Conclude(Pipeline& pipeline, const FrameLog& log, std::size_t total_frames, double loop_ms, bool failed) {
+// OUT/report.html, with the sequence's ground truth when it has one.
+void WriteReport(const RunConfig& config, const std::string& summary) {
+  ReportOptions options;
+  options.out_dir = config.run.out_dir;
+  const TumSequence sequence = TumSequence::Open(config.run.sequence_dir);
+  if (sequence.has_groundtruth()) options.groundtruth_path = sequence.groundtruth_path();
+  options.debug_frames_dir = config.run.debug_frames_dir;
+  options.run_summary = summary;
+  spdlog::info("run: report {}", WriteRunReport(options));
+}
+
+// Writes every result and prints the summary (and the report with --report); returns the exit status.
+int Conclude(Pipeline& pipeline, const FrameLog& log, std::size_t total_frames, double loop_ms, bool failed,
+             bool report) {
   const RunConfig& config = pipeline.config();
   WriteRunResults(pipeline, log, config.run.out_dir);
-  std::fputs(FormatRunSummary(log, total_frames, pipeline.system(), loop_ms).c_str(), stdout);
+  const std::string summary = FormatRunSummary(log, total_frames, pipeline.system(), loop_ms);
+  std::fputs(summary.c_str(), stdout);
+  if (report) WriteReport(config, summary);
   if (failed) return 1;
   if (!config.run.save_map.empty()) pipeline.system().SaveMap(config.run.save_map);
   return 0;
@@ -76,9 +92,9 @@ int Run(RunArgs args) {
   } catch (const Error& e) {
     std::fprintf(stderr, "\n");
     spdlog::error("run: stopped at frame {}: {}", log.size(), e.what());
-    return Conclude(pipeline, log, n, total.ElapsedMs(), true);
+    return Conclude(pipeline, log, n, total.ElapsedMs(), true, args.report);
   }
-  return Conclude(pipeline, log, n, total.ElapsedMs(), false);
+  return Conclude(pipeline, log, n, total.ElapsedMs(), false, args.report);
 }
 
 RunFn Setup(CLI::App& app) {
@@ -116,6 +132,9 @@ RunFn Setup(CLI::App& app) {
   app.add_option("--debug-frames", args->flags.run.debug_frames_dir,
                  "Write per-frame PNGs to this folder: kept keypoints green, removed by the semantic mask red, "
                  "removed by the geometry check magenta; refined mask tinted cyan, geometry mask magenta");
+  app.add_flag("--report", args->report,
+               "At the end write OUT/report.html (as `esdslam report`; ground truth from the sequence's "
+               "groundtruth.txt)");
   return [args] { return Run(*args); };
 }
 
