@@ -27,8 +27,8 @@ std::vector<Vec3> EstimatePositions(const ReportData& data) {
   return points;
 }
 
-std::string Figure(const std::string& svg, const std::string& caption) {
-  return "<figure>" + svg + "<figcaption>" + EscapeHtml(caption) + "</figcaption></figure>\n";
+std::string Figure(const std::string& svg, const std::string& caption, const std::string& css_class = "") {
+  return (css_class.empty() ? "<figure>" : "<figure class=\"" + css_class + "\">") + svg + "<figcaption>" + EscapeHtml(caption) + "</figcaption></figure>\n";
 }
 
 // Shading of the crowded frames on a chart, with its legend text.
@@ -49,7 +49,8 @@ std::string TrajectorySection(const ReportData& data) {
   if (estimate.empty() && truth.empty()) return html + "<p class=\"note\">The run has no poses.</p></section>\n";
   html += Figure(TrajectoriesXYSvg(truth, estimate),
                  data.eval ? "Top view (x-y, metres): ground truth black, estimate blue after rigid alignment."
-                           : "Top view (x-y, metres) of the estimate.");
+                           : "Top view (x-y, metres) of the estimate.",
+                 "topview");
   const char* const axis_names[] = {"x", "y", "z"};
   for (int axis = 0; axis < 3; ++axis) {
     ChartSeries est{"estimate", "#1f77b4", {}, {}};
@@ -110,7 +111,7 @@ std::string TimingSection(const ReportData& data, const ReportOptions& options) 
     std::vector<double> values = timing.Numbers(column.name);
     if (std::all_of(values.begin(), values.end(), [](double v) { return v == 0 || std::isnan(v); }))
       continue;  // the stage did not run
-    stages.push_back({column.name, kPalette[stages.size() % 10], time, std::move(values)});
+    stages.push_back({column.summary, kPalette[stages.size() % 10], time, std::move(values)});
   }
   ChartOptions chart;
   chart.title = "Per-stage time per frame";

@@ -18,6 +18,7 @@ body { font-family: sans-serif; margin: 24px auto; max-width: 1000px; color: #22
 h1 { font-size: 24px; } h2 { font-size: 19px; border-bottom: 1px solid #ccc; padding-bottom: 4px; margin-top: 32px; }
 figure { margin: 12px 0; } figcaption { font-size: 13px; color: #555; }
 svg { max-width: 100%; height: auto; }
+figure.topview svg { max-width: 540px; }
 table { border-collapse: collapse; font-size: 13px; margin: 8px 0; }
 th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: left; }
 td[data-metric] { font-family: monospace; text-align: right; }
@@ -76,8 +77,8 @@ std::string BuildRunReportHtml(const RunFiles& files, const std::vector<StampedP
   std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
                      "<title>ESD-SLAM run report</title>\n";
   html += kStyle;
-  html += "</head>\n<body>\n" + Header(files, options) + SummarySection(data, options) + TrajectorySection(data) +
-          ErrorSection(data, options) + TimingSection(data, options) + DebugSection(data, options) +
+  html += "</head>\n<body>\n" + Header(files, options) + TrajectorySection(data) + ErrorSection(data, options) +
+          TimingSection(data, options) + DebugSection(data, options) + SummarySection(data, options) +
           SettingsSection(data) + "</body>\n</html>\n";
   return html;
 }

@@ -70,7 +70,7 @@ TEST(ReportBrowser, ReportOfASyntheticRunRendersWithTheRunsNumbers) {
   fs::create_directories(dir);
   const std::string seq = dir + "/seq", run = dir + "/run";
 
-  Result r = Shell(bin + " synth --preset dynamic --frames 90 --seed 3 --out " + seq);
+  Result r = Shell(bin + " synth --preset dynamic --frames 60 --seed 3 --out " + seq);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = Shell(bin + " run --settings " + seq + "/settings.yaml --sequence " + seq + " --out " + run +
             " --single-thread --debug-frames " + run + "/debug --report");
@@ -99,7 +99,7 @@ TEST(ReportBrowser, ReportOfASyntheticRunRendersWithTheRunsNumbers) {
     ++metrics;
   }
   EXPECT_GE(metrics, 7);
-  EXPECT_EQ(::esdslam::testing::MetricText(dom, "frames"), "90");
+  EXPECT_EQ(::esdslam::testing::MetricText(dom, "frames"), "60");
   EXPECT_EQ(::esdslam::testing::MetricText(dom, "poses"), std::to_string(DataLines(run + "/trajectory.txt")));
   EXPECT_EQ(::esdslam::testing::MetricText(dom, "keyframes"), std::to_string(DataLines(run + "/keyframes.txt")));
   const TimingTable timing = ReadTimingCsv(run + "/timing.csv");
