@@ -12,5 +12,6 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   libgtest-dev libgmock-dev libbenchmark-dev \
   clang libfuzzer-14-dev \
   python3 python3-numpy python3-torch python3-onnx python3-pil \
+  chromium \
   >/dev/null
 echo "install_deps: done"

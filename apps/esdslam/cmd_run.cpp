@@ -21,6 +21,7 @@
 #include "common/timer.h"
 #include "io/frame_source.h"
 #include "io/tum_sequence.h"
+#include "report/run_report.h"
 #include "system/frame_log.h"
 #include "system/init_diagnosis.h"
 #include "system/live_outputs.h"
@@ -37,6 +38,7 @@ struct RunArgs {
   std::string settings_path;
   std::string mode = "full";
   RunFlags flags;
+  bool report = false;  // --report: OUT/report.html at the end (report/run_report.h)
 };
 
 // The progress line on stderr: redrawn in place every 10 frames on a terminal; into a file or a
@@ -69,6 +71,17 @@ class Progress {
   bool pending_newline_ = false;
 };
 
+// OUT/report.html, with the sequence's ground truth when it has one.
+void WriteReport(const RunConfig& config, const std::string& summary) {
+  ReportOptions options;
+  options.out_dir = config.run.out_dir;
+  const TumSequence sequence = TumSequence::Open(config.run.sequence_dir);
+  if (sequence.has_groundtruth()) options.groundtruth_path = sequence.groundtruth_path();
+  options.debug_frames_dir = config.run.debug_frames_dir;
+  options.run_summary = summary;
+  spdlog::info("run: report {}", WriteRunReport(options));
+}
+
 struct RunEnd {
   bool failed = false;   // a stage, the source or an output failed
   int stop_signal = 0;   // stopped by this signal (SIGINT, SIGTERM), 0 = not
@@ -77,15 +90,24 @@ struct RunEnd {
 // Writes every result and prints the summary; returns the exit status: 0, 1 on a failure or a
 // map that never initialised, 128 + signal when stopped by one.
 int Conclude(Pipeline& pipeline, LiveOutputs& live, const FrameLog& log, const InitDiagnosis& init,
-             std::size_t total_frames, std::size_t unreadable, double loop_ms, RunEnd end) {
+             std::size_t total_frames, std::size_t unreadable, double loop_ms, RunEnd end, bool report) {
   const RunConfig& config = pipeline.config();
   try {
     WriteRunResults(pipeline, live, config.run.out_dir);
   } catch (const std::exception&) {
     end.failed = true;  // (logged by WriteRunResults)
   }
-  std::fputs(FormatRunSummary(log, total_frames, pipeline.system(), loop_ms, unreadable).c_str(), stdout);
+  const std::string summary = FormatRunSummary(log, total_frames, pipeline.system(), loop_ms, unreadable);
+  std::fputs(summary.c_str(), stdout);
   std::fflush(stdout);
+  if (report) {
+    try {
+      WriteReport(config, summary);
+    } catch (const std::exception& e) {
+      spdlog::error("run: report: {}", e.what());
+      end.failed = true;
+    }
+  }
   const std::string reason = init.Reason(config.slam.tracker.min_initial_depth_keypoints);
   if (!reason.empty()) spdlog::error("run: {}", reason);
   if (end.stop_signal == 0) end.stop_signal = StopSignal();  // a signal while writing
@@ -140,7 +162,7 @@ int Run(RunArgs args) {
     end.failed = true;
   }
   progress.Break();
-  return Conclude(pipeline, live, log, init, n, source.frames_skipped(), total.ElapsedMs(), end);
+  return Conclude(pipeline, live, log, init, n, source.frames_skipped(), total.ElapsedMs(), end, args.report);
 }
 
 RunFn Setup(CLI::App& app) {
@@ -182,6 +204,9 @@ RunFn Setup(CLI::App& app) {
   app.add_option("--debug-frames", args->flags.run.debug_frames_dir,
                  "Write per-frame PNGs to this folder: kept keypoints green, removed by the semantic mask red, "
                  "removed by the geometry check magenta; refined mask tinted cyan, geometry mask magenta");
+  app.add_flag("--report", args->report,
+               "At the end write OUT/report.html (as `esdslam report`; ground truth from the sequence's "
+               "groundtruth.txt)");
   return [args] { return Run(*args); };
 }
 

@@ -121,14 +121,18 @@ std::string SvgLegendAndScale(const PlotFrame& frame) {
   return text;
 }
 
+std::string SvgText(const PlotFrame& frame, const std::vector<Vec3>& gt, const std::vector<Vec3>& est) {
+  return fmt::format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\">\n",
+                     kWidth, kHeight) +
+         "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n" + SvgAxes(frame) +
+         SvgPolyline(frame, est, "#1f77b4", 1.2) + SvgPolyline(frame, gt, "black", 2) + SvgLegendAndScale(frame) +
+         "</svg>\n";
+}
+
 void WriteSvg(const PlotFrame& frame, const std::vector<Vec3>& gt, const std::vector<Vec3>& est,
               const std::string& path) {
   std::ofstream out(path);
-  out << fmt::format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\">\n",
-                     kWidth, kHeight);
-  out << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  out << SvgAxes(frame) << SvgPolyline(frame, est, "#1f77b4", 1.2) << SvgPolyline(frame, gt, "black", 2)
-      << SvgLegendAndScale(frame) << "</svg>\n";
+  out << SvgText(frame, gt, est);
   out.close();
   if (!out) throw Error("cannot write plot " + path);
 }
@@ -210,6 +214,11 @@ void PlotTrajectoriesXY(const std::vector<Vec3>& groundtruth, const std::vector<
   } else {
     WritePng(frame, groundtruth, estimate, path);
   }
+}
+
+std::string TrajectoriesXYSvg(const std::vector<Vec3>& groundtruth, const std::vector<Vec3>& estimate) {
+  if (groundtruth.empty() && estimate.empty()) throw Error("nothing to plot");
+  return SvgText(MakeFrame(groundtruth, estimate), groundtruth, estimate);
 }
 
 }  // namespace esdslam

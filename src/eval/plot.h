@@ -14,4 +14,8 @@ namespace esdslam {
 void PlotTrajectoriesXY(const std::vector<Vec3>& groundtruth, const std::vector<Vec3>& estimate,
                         const std::string& path);
 
+// The same top view as one standalone <svg> element (what a .svg plot file holds), for
+// embedding in a page. Throws Error when both point lists are empty.
+std::string TrajectoriesXYSvg(const std::vector<Vec3>& groundtruth, const std::vector<Vec3>& estimate);
+
 }  // namespace esdslam

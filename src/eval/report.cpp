@@ -33,11 +33,11 @@ void AddRpe(const std::optional<RpeResult>& rpe, const std::string& prefix,
 
 bool IsCount(const std::string& name) { return name.size() >= 5 && name.compare(name.size() - 5, 5, "pairs") == 0; }
 
-std::string FormatValue(const std::string& name, double value) {
+}  // namespace
+
+std::string FormatMetricValue(const std::string& name, double value) {
   return IsCount(name) ? fmt::format("{}", static_cast<long long>(value)) : fmt::format("{:.9g}", value);
 }
-
-}  // namespace
 
 EvalReport Evaluate(const std::vector<StampedPose>& groundtruth, const std::vector<StampedPose>& estimate,
                     const EvalOptions& options) {
@@ -70,7 +70,7 @@ std::vector<std::pair<std::string, double>> ReportMetrics(const EvalReport& repo
 
 std::string FormatReportText(const EvalReport& report) {
   std::string text;
-  for (const auto& [name, value] : ReportMetrics(report)) text += name + " " + FormatValue(name, value) + "\n";
+  for (const auto& [name, value] : ReportMetrics(report)) text += name + " " + FormatMetricValue(name, value) + "\n";
   return text;
 }
 
@@ -78,7 +78,7 @@ std::string FormatReportJson(const EvalReport& report) {
   std::string json = "{";
   bool first = true;
   for (const auto& [name, value] : ReportMetrics(report)) {
-    json += fmt::format("{}\n  \"{}\": {}", first ? "" : ",", name, FormatValue(name, value));
+    json += fmt::format("{}\n  \"{}\": {}", first ? "" : ",", name, FormatMetricValue(name, value));
     first = false;
   }
   return json + "\n}\n";

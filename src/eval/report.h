@@ -30,6 +30,9 @@ EvalReport Evaluate(const std::vector<StampedPose>& groundtruth, const std::vect
 // rpe_frame_trans_{rmse,mean,median} rpe_frame_rot_{rmse,mean,median}_deg rpe_frame_pairs, and
 // the same with rpe_second_. Lengths in metres.
 std::vector<std::pair<std::string, double>> ReportMetrics(const EvalReport& report);
+// A metric's value as the text and JSON print it: counts (names ending in "pairs") as integers,
+// the rest with 9 significant digits.
+std::string FormatMetricValue(const std::string& name, double value);
 std::string FormatReportText(const EvalReport& report);  // one 'name value' per line
 std::string FormatReportJson(const EvalReport& report);  // one flat JSON object
 
