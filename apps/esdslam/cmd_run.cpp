@@ -1,6 +1,7 @@
-// `esdslam run --settings FILE --sequence DIR --out DIR [--mode none|semantic|geometry|full]`: runs the SLAM
-// system over a TUM-layout RGB-D sequence and writes trajectory.txt, keyframes.txt, timing.csv and
-// settings_used.yaml (every stage's keys); with --dense also the dense map. The settings file and
+// `esdslam run --settings FILE (--sequence DIR [--live] | --camera [URI]) --out DIR [--mode ...]`: runs the SLAM
+// system over a TUM-layout RGB-D sequence (or a camera, apps/esdslam/run_source.h) and writes
+// trajectory.txt, keyframes.txt, timing.csv and settings_used.yaml (every stage's keys); with
+// --dense also the dense map. The settings file and
 // the flags are resolved here, once, into the run's configuration (system/run_config.h); the
 // frames go through the pipeline by the run loop (system/run_loop.h).
 #include <algorithm>
@@ -12,10 +13,9 @@
 #include <spdlog/spdlog.h>
 
 #include "apps/esdslam/commands.h"
+#include "apps/esdslam/run_source.h"
 #include "common/error.h"
 #include "common/timer.h"
-#include "io/frame_source.h"
-#include "io/tum_sequence.h"
 #include "system/frame_log.h"
 #include "system/pipeline.h"
 #include "system/run_config.h"
@@ -30,13 +30,16 @@ struct RunArgs {
   std::string settings_path;
   std::string mode = "full";
   RunFlags flags;
+  CameraArgs camera;
 };
 
-void ShowProgress(const FrameReport& report, std::size_t n, const SlamSystem& system, double elapsed_ms) {
-  const std::size_t done = static_cast<std::size_t>(report.index) + 1;
-  if (done % 10 != 0 && done != n) return;
-  std::fprintf(stderr, "\rframe %zu/%zu  %.1f fps  %-15s  keyframes %d  map points %d   ", done, n,
-               1000.0 * static_cast<double>(done) / std::max(1.0, elapsed_ms), ToString(report.track.state),
+// done: frames of the input behind us (processed and dropped).
+void ShowProgress(const FrameReport& report, std::size_t done, std::size_t n, const SlamSystem& system,
+                  double elapsed_ms) {
+  if (report.index % 10 != 9 && done != n) return;
+  const std::string of = n > 0 ? "/" + std::to_string(n) : "";  // a camera: no end known
+  std::fprintf(stderr, "\rframe %zu%s  %.1f fps  %-15s  keyframes %d  map points %d   ", done, of.c_str(),
+               1000.0 * static_cast<double>(report.index + 1) / std::max(1.0, elapsed_ms), ToString(report.track.state),
                system.num_keyframes(), system.num_map_points());
   if (done == n) std::fprintf(stderr, "\n");
 }
@@ -53,25 +56,26 @@ int Conclude(Pipeline& pipeline, const FrameLog& log, std::size_t total_frames, 
 
 int Run(RunArgs args) {
   RunSettings settings = LoadRunSettings(args.settings_path);
-  const TumSequence sequence = TumSequence::Open(args.flags.run.sequence_dir);
-  std::filesystem::create_directories(args.flags.run.out_dir);
   args.flags.mode = ParseDynamicMode(args.mode);
+  if (!args.camera.use && args.flags.run.sequence_dir.empty()) throw Error("run: give --sequence DIR or --camera [URI]");
+  // Before the configuration: a camera may bring its own camera model. A bad input fails before OUT is made.
+  RunSource input = OpenRunSource(args.flags.run, args.camera, &settings.core);
   const RunConfig config = ResolveRunConfig(std::move(settings), args.flags);
+  const std::size_t n = input.total_frames;
+  std::filesystem::create_directories(config.run.out_dir);
   LogRunConfig(config);
-  std::size_t n = sequence.frames().size();
-  if (config.run.max_frames > 0) n = std::min<std::size_t>(n, config.run.max_frames);
-  TumFolderSource source({sequence.frames().begin(), sequence.frames().begin() + n},
-                         config.settings.core.depth_map_factor);
   Pipeline pipeline(config);
   const std::string& debug_dir = config.run.debug_frames_dir;
   if (!debug_dir.empty()) std::filesystem::create_directories(debug_dir);
   FrameLog log;
   Stopwatch total;
+  std::size_t done = 0;  // input frames processed or dropped
   try {
-    RunFrames(source, pipeline, [&](const FrameReport& report) {
+    RunFrames(*input.source, pipeline, [&](const FrameReport& report) {
       if (!debug_dir.empty()) WriteDebugFrame(debug_dir, report);
       log.Add(report);
-      ShowProgress(report, n, pipeline.system(), total.ElapsedMs());
+      done += 1 + static_cast<std::size_t>(report.dropped_before);
+      ShowProgress(report, done, n, pipeline.system(), total.ElapsedMs());
     });
   } catch (const Error& e) {
     std::fprintf(stderr, "\n");
@@ -81,10 +85,31 @@ int Run(RunArgs args) {
   return Conclude(pipeline, log, n, total.ElapsedMs(), false);
 }
 
+// --camera and its options; returns --camera (given when its count is > 0).
+CLI::Option* AddCameraOptions(CLI::App& app, CameraArgs& camera_args, CLI::Option* sequence) {
+  CLI::Option* camera = app.add_option("--camera", camera_args.uri,
+                                "Instead of --sequence: an OpenNI2 camera (URI; none = the first attached) or an "
+                                ".oni recording")
+                     ->expected(0, 1)
+                     ->excludes(sequence);
+  app.add_option("--camera-model", camera_args.model_from,
+                 "With --camera: camera model from the device (field of view) or the settings file (calibrated)")
+      ->check(CLI::IsMember({"device", "settings"}))
+      ->capture_default_str()
+      ->needs(camera);
+  app.add_option("--camera-registration", camera_args.registration,
+                 "With --camera: depth registered to colour by the device (software when it cannot), or off")
+      ->check(CLI::IsMember({"device", "off"}))
+      ->capture_default_str()
+      ->needs(camera);
+  return camera;
+}
+
 RunFn Setup(CLI::App& app) {
   auto args = std::make_shared<RunArgs>();
   app.add_option("--settings", args->settings_path, "Settings file (ORB-SLAM2 YAML keys)")->required();
-  app.add_option("--sequence", args->flags.run.sequence_dir, "Sequence folder in TUM RGB-D layout")->required();
+  auto* sequence = app.add_option("--sequence", args->flags.run.sequence_dir, "Sequence folder in TUM RGB-D layout");
+  CLI::Option* camera = AddCameraOptions(app, args->camera, sequence);
   app.add_option("--out", args->flags.run.out_dir, "Output folder (created if missing)")->required();
   app.add_option("--max-frames", args->flags.run.max_frames, "Process at most N frames (0 = all)")
       ->check(CLI::NonNegativeNumber)
@@ -110,13 +135,19 @@ RunFn Setup(CLI::App& app) {
   app.add_flag("--realtime", args->flags.realtime,
                "Real-time segmentation hand-off: newest finished labels, carried to the frame by the motion "
                "model and depth (default: wait for every frame's labels)");
+  app.add_flag("--live", args->flags.run.live,
+               "Sensor-clock playback: frames arrive at their timestamps, a frame arriving while the system is "
+               "busy is dropped (counted in the summary and timing.csv's dropped_before)");
   app.add_flag("--dense", args->flags.dense,
                "Build the static dense map of the keyframes: dense.ply, octomap.bt, dense_top.png, "
                "dense_view.png, dense_keyframes.txt and masks/<timestamp>.png in the output folder");
   app.add_option("--debug-frames", args->flags.run.debug_frames_dir,
                  "Write per-frame PNGs to this folder: kept keypoints green, removed by the semantic mask red, "
                  "removed by the geometry check magenta; refined mask tinted cyan, geometry mask magenta");
-  return [args] { return Run(*args); };
+  return [args, camera] {
+    args->camera.use = camera->count() > 0;
+    return Run(*args);
+  };
 }
 
 const Registrar kRegistrar({"run", "Run RGB-D SLAM over a sequence and write the trajectory", Setup, 20});

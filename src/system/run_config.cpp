@@ -105,7 +105,8 @@ RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags) {
 void LogRunConfig(const RunConfig& config) {
   const Settings& s = config.settings.core;
   const auto& c = s.camera;
-  spdlog::info("run: sequence {} -> {}", config.run.sequence_dir, config.run.out_dir);
+  spdlog::info("run: sequence {} -> {}{}", config.run.sequence_dir, config.run.out_dir,
+               config.run.live ? " (live: sensor-clock playback, frames dropped while busy)" : "");
   spdlog::info("run: camera fx={} fy={} cx={} cy={} k=[{} {} {} {} {}] {}x{} fps={}", c.fx, c.fy, c.cx, c.cy, c.k1,
                c.k2, c.p1, c.p2, c.k3, c.width, c.height, s.fps);
   spdlog::info("run: bf={} ThDepth={} DepthMapFactor={} RGB={} ORB nFeatures={} scale={} levels={} FAST={}/{}", s.bf,
