@@ -17,7 +17,7 @@ LivePlaybackSource::~LivePlaybackSource() {
   clock_->Interrupt();
   try {
     player_.Close();
-  } catch (const std::exception&) {  // logged by the worker when it happened
+  } catch (const std::exception&) {  // none expected: Play keeps its errors for Next()
   }
 }
 
