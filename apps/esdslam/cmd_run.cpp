@@ -1,8 +1,9 @@
-// `esdslam run --settings FILE --sequence DIR --out DIR [--mode none|semantic|geometry|full]`: runs the SLAM
-// system over a TUM-layout RGB-D sequence and writes trajectory.txt, keyframes.txt, timing.csv and
-// settings_used.yaml (every stage's keys); with --dense also the dense map. trajectory.txt,
-// keyframes.txt and timing.csv grow frame by frame (system/live_outputs.h); SIGINT/SIGTERM stop
-// the run after the current frame with every output written (stop_signals.h). The settings file and
+// `esdslam run --settings FILE (--sequence DIR [--live] | --camera [URI]) --out DIR [--mode ...]`: runs the SLAM
+// system over a TUM-layout RGB-D sequence (or a camera, apps/esdslam/run_source.h) and writes
+// trajectory.txt, keyframes.txt, timing.csv and settings_used.yaml (every stage's keys); with
+// --dense also the dense map. trajectory.txt, keyframes.txt and timing.csv grow frame by frame
+// (system/live_outputs.h); SIGINT/SIGTERM stop the run after the current frame with every output
+// written (stop_signals.h). The settings file and
 // the flags are resolved here, once, into the run's configuration (system/run_config.h); the
 // frames go through the pipeline by the run loop (system/run_loop.h).
 #include <unistd.h>
@@ -16,6 +17,7 @@
 #include <spdlog/spdlog.h>
 
 #include "apps/esdslam/commands.h"
+#include "apps/esdslam/run_source.h"
 #include "apps/esdslam/stop_signals.h"
 #include "common/error.h"
 #include "common/timer.h"
@@ -39,6 +41,7 @@ struct RunArgs {
   std::string mode = "full";
   RunFlags flags;
   bool report = false;  // --report: OUT/report.html at the end (report/run_report.h)
+  CameraArgs camera;
 };
 
 // The progress line on stderr: redrawn in place every 10 frames on a terminal; into a file or a
@@ -46,13 +49,14 @@ struct RunArgs {
 class Progress {
  public:
   explicit Progress(std::size_t total) : total_(total), terminal_(::isatty(STDERR_FILENO) != 0) {}
-  void Show(const FrameReport& report, const SlamSystem& system, double elapsed_ms) {
-    const std::size_t done = static_cast<std::size_t>(report.index) + 1;
+  // done: frames of the input behind us (processed and dropped); total_ 0 = unknown (a camera).
+  void Show(const FrameReport& report, std::size_t done, const SlamSystem& system, double elapsed_ms) {
     const bool last = done == total_;
     if (terminal_ ? (done % 10 != 0 && !last) : (elapsed_ms < next_line_ms_ && !last)) return;
     next_line_ms_ = elapsed_ms + kPlainLineIntervalMs;
-    std::fprintf(stderr, "%sframe %zu/%zu  %.1f fps  %-15s  keyframes %d  map points %d%s", terminal_ ? "\r" : "",
-                 done, total_, 1000.0 * static_cast<double>(done) / std::max(1.0, elapsed_ms),
+    const std::string of = total_ > 0 ? "/" + std::to_string(total_) : "";
+    std::fprintf(stderr, "%sframe %zu%s  %.1f fps  %-15s  keyframes %d  map points %d%s", terminal_ ? "\r" : "",
+                 done, of.c_str(), 1000.0 * static_cast<double>(report.index + 1) / std::max(1.0, elapsed_ms),
                  ToString(report.track.state), system.num_keyframes(), system.num_map_points(),
                  terminal_ ? (last ? "   \n" : "   ") : "\n");
     pending_newline_ = terminal_ && !last;
@@ -120,20 +124,14 @@ int Conclude(Pipeline& pipeline, LiveOutputs& live, const FrameLog& log, const I
 
 int Run(RunArgs args) {
   RunSettings settings = LoadRunSettings(args.settings_path);
-  AssociationOptions associations;
-  associations.association_file = args.flags.run.associations;
-  const TumSequence sequence = TumSequence::Open(args.flags.run.sequence_dir, associations);
-  std::filesystem::create_directories(args.flags.run.out_dir);
   args.flags.mode = ParseDynamicMode(args.mode);
+  if (!args.camera.use && args.flags.run.sequence_dir.empty()) throw Error("run: give --sequence DIR or --camera [URI]");
+  // Before the configuration: a camera may bring its own camera model. A bad input fails before OUT is made.
+  RunSource input = OpenRunSource(args.flags.run, args.camera, settings.max_consecutive_bad_frames, &settings.core);
   const RunConfig config = ResolveRunConfig(std::move(settings), args.flags);
+  const std::size_t n = input.total_frames;
+  std::filesystem::create_directories(config.run.out_dir);
   RecordRunConfig(config);
-  std::size_t n = sequence.frames().size();
-  if (config.run.max_frames > 0) n = std::min<std::size_t>(n, config.run.max_frames);
-  FolderSourceOptions source_options;
-  source_options.max_consecutive_bad_frames = config.settings.max_consecutive_bad_frames;
-  source_options.image_size = {config.settings.core.camera.width, config.settings.core.camera.height};
-  TumFolderSource source({sequence.frames().begin(), sequence.frames().begin() + n},
-                         config.settings.core.depth_map_factor, source_options);
   InstallStopSignals();
   Pipeline pipeline(config);
   LiveOutputs live(config.run.out_dir);
@@ -143,16 +141,18 @@ int Run(RunArgs args) {
   InitDiagnosis init;
   Progress progress(n);
   Stopwatch total;
+  std::size_t done = 0;  // input frames processed or dropped
   RunEnd end;
   try {
     const bool stopped = RunFrames(
-        source, pipeline,
+        *input.source, pipeline,
         [&](const FrameReport& report) {
           log.Add(report);
           init.Add(report);
           live.Add(report, log.row(log.size() - 1));
           if (!debug_dir.empty()) WriteDebugFrame(debug_dir, report);
-          progress.Show(report, pipeline.system(), total.ElapsedMs());
+          done += 1 + static_cast<std::size_t>(report.dropped_before);
+          progress.Show(report, done, pipeline.system(), total.ElapsedMs());
         },
         [] { return StopSignal() != 0; });
     if (stopped) end.stop_signal = StopSignal();
@@ -162,13 +162,34 @@ int Run(RunArgs args) {
     end.failed = true;
   }
   progress.Break();
-  return Conclude(pipeline, live, log, init, n, source.frames_skipped(), total.ElapsedMs(), end, args.report);
+  return Conclude(pipeline, live, log, init, n, input.frames_skipped(), total.ElapsedMs(), end, args.report);
+}
+
+// --camera and its options; returns --camera (given when its count is > 0).
+CLI::Option* AddCameraOptions(CLI::App& app, CameraArgs& camera_args, CLI::Option* sequence) {
+  CLI::Option* camera = app.add_option("--camera", camera_args.uri,
+                                "Instead of --sequence: an OpenNI2 camera (URI; none = the first attached) or an "
+                                ".oni recording")
+                     ->expected(0, 1)
+                     ->excludes(sequence);
+  app.add_option("--camera-model", camera_args.model_from,
+                 "With --camera: camera model from the device (field of view) or the settings file (calibrated)")
+      ->check(CLI::IsMember({"device", "settings"}))
+      ->capture_default_str()
+      ->needs(camera);
+  app.add_option("--camera-registration", camera_args.registration,
+                 "With --camera: depth registered to colour by the device (software when it cannot), or off")
+      ->check(CLI::IsMember({"device", "off"}))
+      ->capture_default_str()
+      ->needs(camera);
+  return camera;
 }
 
 RunFn Setup(CLI::App& app) {
   auto args = std::make_shared<RunArgs>();
   app.add_option("--settings", args->settings_path, "Settings file (ORB-SLAM2 YAML keys)")->required();
-  app.add_option("--sequence", args->flags.run.sequence_dir, "Sequence folder in TUM RGB-D layout")->required();
+  auto* sequence = app.add_option("--sequence", args->flags.run.sequence_dir, "Sequence folder in TUM RGB-D layout");
+  CLI::Option* camera = AddCameraOptions(app, args->camera, sequence);
   app.add_option("--out", args->flags.run.out_dir, "Output folder (created if missing)")->required();
   app.add_option("--associations", args->flags.run.associations,
                  "ORB-SLAM2 association file 'ts_rgb rgb/F ts_depth depth/F' (paths relative to the sequence); "
@@ -198,6 +219,9 @@ RunFn Setup(CLI::App& app) {
   app.add_flag("--realtime", args->flags.realtime,
                "Real-time segmentation hand-off: newest finished labels, carried to the frame by the motion "
                "model and depth (default: wait for every frame's labels)");
+  app.add_flag("--live", args->flags.run.live,
+               "Sensor-clock playback: frames arrive at their timestamps, a frame arriving while the system is "
+               "busy is dropped (counted in the summary and timing.csv's dropped_before)");
   app.add_flag("--dense", args->flags.dense,
                "Build the static dense map of the keyframes: dense.ply, octomap.bt, dense_top.png, "
                "dense_view.png, dense_keyframes.txt and masks/<timestamp>.png in the output folder");
@@ -207,7 +231,10 @@ RunFn Setup(CLI::App& app) {
   app.add_flag("--report", args->report,
                "At the end write OUT/report.html (as `esdslam report`; ground truth from the sequence's "
                "groundtruth.txt)");
-  return [args] { return Run(*args); };
+  return [args, camera] {
+    args->camera.use = camera->count() > 0;
+    return Run(*args);
+  };
 }
 
 const Registrar kRegistrar({"run", "Run RGB-D SLAM over a sequence and write the trajectory", Setup, 20});

@@ -3,10 +3,11 @@
 // frame at a time, in time order, on the tracking thread; it takes the next frame before it
 // tracks the current one (look-ahead, so segmentation of frame i+1 overlaps tracking of frame i).
 //
-// Today: TumFolderSource, a TUM-layout folder read frame by frame. The interface is what later
-// sources implement (none of them exists yet): a loader thread filling a bounded queue ahead of
-// the run loop, sensor-clock playback of a folder that drops frames arriving while the system
-// is busy, a live OpenNI2 camera. A source that drops frames simply does not return them.
+// Sources: TumFolderSource (a TUM-layout folder read frame by frame, below), LivePlaybackSource
+// (io/live_playback_source.h: any source played on a clock, dropping the frames that arrive
+// while the system is busy). A library user's own camera implements this interface (README,
+// "Using a camera"). A source that drops frames does not return them and counts them in the next
+// returned frame's dropped_before.
 
 #include <cstddef>
 #include <optional>
@@ -23,6 +24,7 @@ struct RgbdFrame {
   double timestamp = 0;  // seconds, the colour image's time (the frame's time)
   cv::Mat bgr;           // CV_8UC3 (or CV_8UC1 grey), OpenCV channel order as decoded
   cv::Mat depth_m;       // CV_32F metres, 0 = invalid; same size as bgr
+  int dropped_before = 0;  // frames the source dropped between the frame it returned before and this one
 };
 
 class FrameSource {

@@ -41,6 +41,8 @@ const std::vector<FrameColumn>& FrameColumns() {
     {"geometry_window_px", "px", kInt, WindowPx},
     {"grow_cpu_ms", "ms", 3, [](R r) { return r.mask.grow_cpu_ms; }},
     {"geometry_cpu_ms", "ms", 3, [](R r) { return r.track.geometry.check_cpu_ms; }},
+    // Frames the source dropped just before this one (live playback, a camera); 0 from a folder.
+    {"dropped_before", "frames", kInt, [](R r) { return static_cast<double>(r.dropped_before); }},
     // Summary only: the dynamic stages together (region growing + geometry check).
     {"dynamic_ms", "ms", 3, [](R r) { return r.mask.grow_ms + r.track.geometry.check_ms; }, "grow+geo", false},
     {"dynamic_cpu_ms", "ms", 3, [](R r) { return r.mask.grow_cpu_ms + r.track.geometry.check_cpu_ms; }, "(cpu)",

@@ -1,7 +1,8 @@
 #pragma once
 // What happened to one frame: the ONE per-frame report. Each stage returns its own value and the
 // pipeline puts it in its slot, nothing is copied field by field:
-//   run loop         index, timestamp, load_ms (time spent taking frames from the source)
+//   run loop         index, timestamp, load_ms (time spent taking frames from the source),
+//                    dropped_before (the source's count, RgbdFrame::dropped_before)
 //   semantic stage   mask (SemanticFrontEnd::MaskFor; default in modes none and geometry)
 //   SLAM system      track (SlamSystem::TrackRgbd), and inside it the geometry check's
 //                    statistics (track.geometry, GeometryFilter::Apply's value)
@@ -34,7 +35,9 @@ struct FrameReport {
   std::int64_t index = 0;  // 0-based number of the frame in the run (the pipeline's frame id)
   double timestamp = 0;    // seconds
   double load_ms = 0;      // taking frames from the source during this frame's step (this frame's
-                           // look-ahead successor; the first frame also counts its own)
+                           // look-ahead successor; the first frame also counts its own;
+                           // a live source: waiting for the frame to arrive)
+  int dropped_before = 0;  // frames the source dropped just before this one (live playback, camera)
   DynamicMaskResult mask;  // the dynamic mask and its timings
   TrackOutcome track;      // extraction, tracking, state, pose, new keyframe, geometry check
   KeypointCounts keypoints;

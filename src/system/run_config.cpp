@@ -115,7 +115,8 @@ void RecordRunConfig(const RunConfig& config) {
   spdlog::info("run: mode {}, {}, seed {}; effective settings in {}", ToString(config.pipeline.mode),
                config.slam.single_thread ? "single thread" : "threaded", config.settings.loop.relocalizer.pnp.seed,
                where);
-  spdlog::debug("run: sequence {} -> {}", config.run.sequence_dir, config.run.out_dir);
+  spdlog::debug("run: sequence {} -> {}{}", config.run.sequence_dir, config.run.out_dir,
+                config.run.live ? " (live: sensor-clock playback, frames dropped while busy)" : "");
   spdlog::debug("run: camera fx={} fy={} cx={} cy={} k=[{} {} {} {} {}] {}x{} fps={}", c.fx, c.fy, c.cx, c.cy, c.k1,
                 c.k2, c.p1, c.p2, c.k3, c.width, c.height, s.fps);
   spdlog::debug("run: segmentation {}, dense {}, debug frames {}", realtime ? "real time (newest wins)" : "every frame",

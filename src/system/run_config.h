@@ -57,6 +57,9 @@ struct RunOptions {
   int max_frames = 0;            // process at most this many frames; 0 = all
   std::string debug_frames_dir;  // one debug PNG per frame (dynamic/debug_picture.h); empty = off
   std::string save_map;          // the final map file; empty = not written
+  // Sensor-clock playback: frames arrive at their timestamps and the ones arriving while the
+  // system is busy are dropped (io/live_playback_source.h).
+  bool live = false;
   void Check() const;            // throws Error
 };
 

@@ -29,6 +29,7 @@ bool RunFrames(FrameSource& source, Pipeline& pipeline, const FrameCallback& on_
     std::optional<RgbdFrame> next = TakeAhead(source, pipeline, &load_ms);
     FrameReport report = pipeline.Track(*current);
     report.load_ms = load_ms;
+    report.dropped_before = current->dropped_before;
     load_ms = 0;
     on_frame(report);
     if (stop()) return true;

@@ -86,6 +86,8 @@ std::string FormatRunSummary(const FrameLog& log, std::size_t total_frames, cons
   std::string text = FormatStageSummary(log);
   text += fmt::format("frames_tracked {} / {} (processed {})\n", tracked, total_frames, log.size());
   text += fmt::format("frames_skipped {} (images that could not be read)\n", frames_unreadable);
+  text += fmt::format("frames_dropped {} (arrived while the system was busy: frames without a pose)\n",
+                      static_cast<long>(Sum(log.Values("dropped_before"))));
   text += fmt::format("fps {:.1f} (frames processed per second of wall time)\n",
                       1000.0 * static_cast<double>(log.size()) / std::max(1.0, elapsed_ms));
   text += fmt::format("points_culled_by_geometry {}\n", static_cast<long>(Sum(log.Values("geometry_culled"))));

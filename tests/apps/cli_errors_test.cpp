@@ -89,5 +89,24 @@ TEST_F(CliErrorsTest, EvalOfATrajectoryWithNanFails) {
   EXPECT_NE(r.output.find("nan.txt:2"), std::string::npos) << r.output;
 }
 
+TEST_F(CliErrorsTest, RunNeedsASequenceOrACamera) {
+  const Result r = RunProgram("run --settings " + settings_ + " --out " + dir_ + "/out");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--sequence DIR or --camera"), std::string::npos) << r.output;
+}
+
+// No camera is attached here or in CI: the run stops before anything is written, saying why.
+TEST_F(CliErrorsTest, RunOnACameraWithNoDeviceAttachedFailsSayingSo) {
+  const Result r = RunProgram("run --settings " + settings_ + " --camera --out " + dir_ + "/cam");
+  EXPECT_NE(r.exit_code, 0);
+  const bool explained = r.output.find("no OpenNI2 device attached") != std::string::npos ||
+                         r.output.find("built without OpenNI2") != std::string::npos;
+  EXPECT_TRUE(explained) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ + "/cam"));
+  const Result missing = RunProgram("run --settings " + settings_ + " --camera " + dir_ + "/walk.oni --out " + dir_ + "/cam");
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_NE(missing.output.find(dir_ + "/walk.oni"), std::string::npos) << missing.output;
+}
+
 }  // namespace
 }  // namespace esdslam

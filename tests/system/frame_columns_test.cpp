@@ -19,7 +19,7 @@ namespace {
 const char* kHeader =
     "timestamp,load_ms,extract_ms,track_ms,state,lost,seg_latency_ms,seg_wait_ms,mask_ms,label_age,"
     "dynamic_fraction,keypoints,dynamic_keypoints,grow_ms,geometry_ms,geometry_keypoints,geometry_culled,"
-    "geometry_covered,geometry_window_px,grow_cpu_ms,geometry_cpu_ms";
+    "geometry_covered,geometry_window_px,grow_cpu_ms,geometry_cpu_ms,dropped_before";
 
 // Every field a column reads, each a different value.
 FrameReport HandFilledReport() {
@@ -27,6 +27,7 @@ FrameReport HandFilledReport() {
   r.index = 7;
   r.timestamp = 1305031102.175304;
   r.load_ms = 12.3456;
+  r.dropped_before = 3;
   r.mask.source_id = 5;  // label age 2
   r.mask.latency_ms = 140.25;
   r.mask.wait_ms = 3.5;
@@ -51,7 +52,7 @@ TEST(FrameColumnsTest, CsvHeaderAndRowFromAHandFilledReport) {
   EXPECT_EQ(FrameCsvHeader(), kHeader);
   EXPECT_EQ(FrameCsvRow(ReadFrameColumns(HandFilledReport())),
             "1305031102.175304,12.346,9.875,17.062,OK,0,140.250,3.500,1.750,2,0.1235,1000,120,0.500,2.125,20,4,31,3,"
-            "0.250,2.000");
+            "0.250,2.000,3");
 }
 
 TEST(FrameColumnsTest, EmptyStagesLostFramesAndSkippedChecks) {
