@@ -109,7 +109,12 @@ void RecordRunConfig(const RunConfig& config) {
   std::string where = "not saved (no output folder)";
   if (!config.run.out_dir.empty()) {
     where = (std::filesystem::path(config.run.out_dir) / "settings_used.yaml").string();
-    SaveRunSettings(config.settings, where);
+    try {  // written again with the results; a failure here (disk full, file-size limit) must not stop the run
+      SaveRunSettings(config.settings, where);
+    } catch (const std::exception& e) {
+      spdlog::error("{}", e.what());
+      where += " (not yet: " + std::string(e.what()) + ")";
+    }
   }
   const bool realtime = config.settings.semantic.mode == SegmentationMode::kNewestWins;
   spdlog::info("run: mode {}, {}, seed {}; effective settings in {}", ToString(config.pipeline.mode),

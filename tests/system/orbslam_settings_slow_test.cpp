@@ -16,12 +16,12 @@
 namespace esdslam {
 namespace {
 
-struct Run {
+struct WindowRun {
   std::vector<StampedPose> trajectory;
   double ate_rmse = 0;
 };
 
-Run RunWindow(const std::string& settings_path, const AssociationOptions& associations) {
+WindowRun RunWindow(const std::string& settings_path, const AssociationOptions& associations) {
   const std::string dir = ::esdslam::testing::TestDataDir() + "/data/tum_fr1_rpy_dev";
   const Settings settings = LoadSettings(settings_path);
   const TumSequence sequence = TumSequence::Open(dir, associations);
@@ -33,7 +33,7 @@ Run RunWindow(const std::string& settings_path, const AssociationOptions& associ
     system.TrackRgbd(images.bgr, images.depth_m, entry.timestamp);
   }
   system.Shutdown();
-  Run run;
+  WindowRun run;
   run.trajectory = system.Trajectory();
   run.ate_rmse = ComputeAte(ReadTumTrajectory(sequence.groundtruth_path()), run.trajectory).translation_m.rmse;
   return run;
@@ -43,11 +43,11 @@ TEST(OrbSlamSettingsSlowTest, ExampleSettingsGiveTheAteOfOurFr1Settings) {
   const std::string dir = ::esdslam::testing::TestDataDir() + "/data/tum_fr1_rpy_dev";
   if (!std::filesystem::exists(dir)) GTEST_SKIP() << dir << " not found";
   const std::string data = ::esdslam::testing::SourceDir() + "/tests/data/orbslam/";
-  const Run ours = RunWindow(::esdslam::testing::SourceDir() + "/config/tum_fr1.yaml", {});
+  const WindowRun ours = RunWindow(::esdslam::testing::SourceDir() + "/config/tum_fr1.yaml", {});
   AssociationOptions orbslam2_associations;
   orbslam2_associations.association_file = data + "fr1_rpy_dev_associations.txt";
-  const Run orbslam2 = RunWindow(data + "orbslam2_TUM1.yaml", orbslam2_associations);
-  const Run orbslam3 = RunWindow(data + "orbslam3_TUM1.yaml", {});
+  const WindowRun orbslam2 = RunWindow(data + "orbslam2_TUM1.yaml", orbslam2_associations);
+  const WindowRun orbslam3 = RunWindow(data + "orbslam3_TUM1.yaml", {});
   std::printf("fr1_rpy_dev single-thread ATE RMSE: config/tum_fr1.yaml %.4f m, ORB-SLAM2 TUM1.yaml + association "
               "file %.4f m, ORB-SLAM3 TUM1.yaml %.4f m\n",
               ours.ate_rmse, orbslam2.ate_rmse, orbslam3.ate_rmse);
