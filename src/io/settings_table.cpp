@@ -149,17 +149,17 @@ void SettingsTable::AddEntry(Entry entry) {
 
 void SettingsTable::Add(const std::string& key, double* field, Need need) {
   AddEntry({key, need, "real", [field](const std::string& s) { return ParseReal(s, field); },
-            [field] { return fmt::format("{}", *field); }});
+            [field] { return fmt::format("{}", *field); }, /*canonical=*/""});
 }
 
 void SettingsTable::Add(const std::string& key, int* field, Need need) {
   AddEntry({key, need, "integer", [field](const std::string& s) { return ParseInteger(s, field); },
-            [field] { return fmt::format("{}", *field); }});
+            [field] { return fmt::format("{}", *field); }, /*canonical=*/""});
 }
 
 void SettingsTable::Add(const std::string& key, bool* field, Need need) {
   AddEntry({key, need, "boolean", [field](const std::string& s) { return ParseBool(s, field); },
-            [field] { return std::string(*field ? "true" : "false"); }});
+            [field] { return std::string(*field ? "true" : "false"); }, /*canonical=*/""});
 }
 
 void SettingsTable::Add(const std::string& key, std::string* field, Need need) {
@@ -168,7 +168,7 @@ void SettingsTable::Add(const std::string& key, std::string* field, Need need) {
               *field = s;
               return true;
             },
-            [field] { return QuoteYamlString(*field); }});
+            [field] { return QuoteYamlString(*field); }, /*canonical=*/""});
 }
 
 void SettingsTable::InputOnly(const std::string& key) {

@@ -111,7 +111,9 @@ TEST(BadInputsTest, EveryInputGivesItsNamedErrorOrIsSkipped) {
     } catch (const InputError& e) {
       const std::string what = e.what();
       EXPECT_NE(what.find(kind == "lists" ? std::string() : path), std::string::npos) << c.file << ": " << what;
-      if (c.line != "-1") EXPECT_EQ(std::to_string(e.line()), c.line) << c.file << ": " << what;
+      if (c.line != "-1") {
+        EXPECT_EQ(std::to_string(e.line()), c.line) << c.file << ": " << what;
+      }
       EXPECT_NE(what.find(c.fragment), std::string::npos) << c.file << ": " << what;
     } catch (const std::exception& e) {
       ADD_FAILURE() << c.file << ": not an InputError: " << e.what();
