@@ -1,14 +1,12 @@
 // The `esdslam` program on bad input: a non-zero exit and an error that names the file (and the
 // line where there is one). Skipped when the program has not been built.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "support/program.h"
 #include "support/temp_path.h"
 #include "support/test_paths.h"
 
@@ -17,27 +15,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr
-};
-
-Result RunProgram(const std::string& arguments) {
-  const std::string command = (fs::path(::esdslam::testing::BinaryDir()) / "esdslam").string() + " " + arguments + " 2>&1";
-  Result result;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  std::array<char, 4096> buffer;
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) result.output += buffer.data();
-  const int status = ::pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+testing::ShellResult RunProgram(const std::string& arguments) {
+  return testing::RunShell(testing::EsdslamProgram() + " " + arguments);
 }
 
 class CliErrorsTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!fs::exists(fs::path(::esdslam::testing::BinaryDir()) / "esdslam")) GTEST_SKIP() << "build the esdslam target first";
+    if (!fs::exists(testing::EsdslamProgram())) GTEST_SKIP() << "build the esdslam target first";
     dir_ = testing::TestTempPath("cli_errors");
     fs::create_directories(dir_);
   }
@@ -51,7 +36,7 @@ class CliErrorsTest : public ::testing::Test {
 };
 
 TEST_F(CliErrorsTest, RunOnAMissingSequenceFolderFails) {
-  const Result r = RunProgram("run --settings " + settings_ + " --sequence " + dir_ + "/nowhere --out " + dir_ + "/out");
+  const testing::ShellResult r = RunProgram("run --settings " + settings_ + " --sequence " + dir_ + "/nowhere --out " + dir_ + "/out");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find(dir_ + "/nowhere"), std::string::npos) << r.output;
 }
@@ -60,14 +45,14 @@ TEST_F(CliErrorsTest, RunOnAnEmptySequenceFails) {
   fs::create_directories(dir_ + "/empty");
   Write("empty/rgb.txt", "# timestamp filename\n");
   Write("empty/depth.txt", "# timestamp filename\n");
-  const Result r = RunProgram("run --settings " + settings_ + " --sequence " + dir_ + "/empty --out " + dir_ + "/out");
+  const testing::ShellResult r = RunProgram("run --settings " + settings_ + " --sequence " + dir_ + "/empty --out " + dir_ + "/out");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("empty"), std::string::npos) << r.output;
 }
 
 TEST_F(CliErrorsTest, SettingsWithoutARequiredKeyFailNamingFileAndKey) {
   const std::string settings = Write("no_fx.yaml", "%YAML:1.0\nCamera.fy: 500.0\nCamera.cx: 320.0\nCamera.cy: 240.0\n");
-  const Result r = RunProgram("run --settings " + settings + " --sequence " + dir_ + " --out " + dir_ + "/out");
+  const testing::ShellResult r = RunProgram("run --settings " + settings + " --sequence " + dir_ + " --out " + dir_ + "/out");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("no_fx.yaml"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("Camera.fx"), std::string::npos) << r.output;
@@ -76,7 +61,7 @@ TEST_F(CliErrorsTest, SettingsWithoutARequiredKeyFailNamingFileAndKey) {
 TEST_F(CliErrorsTest, EvalOfAMalformedTrajectoryFailsNamingFileAndLine) {
   const std::string truth = Write("truth.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n3.0 0 0 0 0 0 0 1\n");
   const std::string estimate = Write("estimate.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 zero 0 0 0 1\n");
-  const Result r = RunProgram("eval " + truth + " " + estimate);
+  const testing::ShellResult r = RunProgram("eval " + truth + " " + estimate);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("estimate.txt:2"), std::string::npos) << r.output;
 }
@@ -84,26 +69,26 @@ TEST_F(CliErrorsTest, EvalOfAMalformedTrajectoryFailsNamingFileAndLine) {
 TEST_F(CliErrorsTest, EvalOfATrajectoryWithNanFails) {
   const std::string truth = Write("truth.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n3.0 0 0 0 0 0 0 1\n");
   const std::string estimate = Write("nan.txt", "1.0 0 0 0 0 0 0 1\n2.0 nan 0 0 0 0 0 1\n");
-  const Result r = RunProgram("eval " + truth + " " + estimate);
+  const testing::ShellResult r = RunProgram("eval " + truth + " " + estimate);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("nan.txt:2"), std::string::npos) << r.output;
 }
 
 TEST_F(CliErrorsTest, RunNeedsASequenceOrACamera) {
-  const Result r = RunProgram("run --settings " + settings_ + " --out " + dir_ + "/out");
+  const testing::ShellResult r = RunProgram("run --settings " + settings_ + " --out " + dir_ + "/out");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("--sequence DIR or --camera"), std::string::npos) << r.output;
 }
 
 // No camera is attached here or in CI: the run stops before anything is written, saying why.
 TEST_F(CliErrorsTest, RunOnACameraWithNoDeviceAttachedFailsSayingSo) {
-  const Result r = RunProgram("run --settings " + settings_ + " --camera --out " + dir_ + "/cam");
+  const testing::ShellResult r = RunProgram("run --settings " + settings_ + " --camera --out " + dir_ + "/cam");
   EXPECT_NE(r.exit_code, 0);
   const bool explained = r.output.find("no OpenNI2 device attached") != std::string::npos ||
                          r.output.find("built without OpenNI2") != std::string::npos;
   EXPECT_TRUE(explained) << r.output;
   EXPECT_FALSE(fs::exists(dir_ + "/cam"));
-  const Result missing = RunProgram("run --settings " + settings_ + " --camera " + dir_ + "/walk.oni --out " + dir_ + "/cam");
+  const testing::ShellResult missing = RunProgram("run --settings " + settings_ + " --camera " + dir_ + "/walk.oni --out " + dir_ + "/cam");
   EXPECT_NE(missing.exit_code, 0);
   EXPECT_NE(missing.output.find(dir_ + "/walk.oni"), std::string::npos) << missing.output;
 }

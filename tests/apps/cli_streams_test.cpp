@@ -4,13 +4,11 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
+#include "support/program.h"
 #include "support/temp_path.h"
 #include "support/test_paths.h"
 
@@ -24,13 +22,6 @@ struct Streams {
   std::string out, err;
 };
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 class CliStreamsTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -38,7 +29,7 @@ class CliStreamsTest : public ::testing::Test {
     dir_ = testing::TestTempPath("cli_streams");
     fs::create_directories(dir_);
   }
-  static std::string Program() { return (fs::path(::esdslam::testing::BinaryDir()) / "esdslam").string(); }
+  static std::string Program() { return testing::EsdslamProgram(); }
   std::string Write(const std::string& name, const std::string& text) {
     const std::string path = dir_ + "/" + name;
     std::ofstream(path) << text;
@@ -48,7 +39,7 @@ class CliStreamsTest : public ::testing::Test {
   Streams Run(const std::string& arguments) {
     const std::string out = dir_ + "/stdout.txt", err = dir_ + "/stderr.txt";
     const int status = std::system((Program() + " " + arguments + " >" + out + " 2>" + err).c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadText(out), ReadText(err)};
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, testing::ReadTextFile(out), testing::ReadTextFile(err)};
   }
   std::string dir_;
 };

@@ -21,6 +21,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "support/program.h"
 #include "support/temp_path.h"
 #include "synth/sequence_writer.h"
 #include "synth/synthetic_scene.h"
@@ -31,7 +32,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Program() { return (fs::path(::esdslam::testing::BinaryDir()) / "esdslam").string(); }
+std::string Program() { return testing::EsdslamProgram(); }
 
 // The program as a child process, stdout and stderr into one pipe.
 class Child {

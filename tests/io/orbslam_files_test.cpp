@@ -12,6 +12,7 @@
 #include "io/settings_table.h"
 #include "io/test_files.h"
 #include "io/tum_sequence.h"
+#include "support/program.h"
 #include "support/test_paths.h"
 
 namespace esdslam {
@@ -21,13 +22,6 @@ namespace fs = std::filesystem;
 using testing::TempDir;
 
 std::string DataFile(const std::string& name) { return ::esdslam::testing::SourceDir() + "/tests/data/orbslam/" + name; }
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // `text` with line `line` (1-based) replaced by `replacement`.
 std::string ReplaceLine(const std::string& text, int line, const std::string& replacement) {
@@ -101,7 +95,7 @@ TEST(OrbSlamFiles, Orbslam3RgbdSettingsLoad) {
   // Saved in ORB-SLAM2's keys: loads back to the same values, without the ORB-SLAM3 forms.
   TempDir dir;
   SaveSettings(s, dir.Path("saved.yaml"));
-  const std::string saved = ReadText(dir.Path("saved.yaml"));
+  const std::string saved = testing::ReadTextFile(dir.Path("saved.yaml"));
   EXPECT_EQ(saved.find("Camera1."), std::string::npos) << saved;
   EXPECT_EQ(saved.find("Stereo.b"), std::string::npos) << saved;
   const Settings again = LoadSettings(dir.Path("saved.yaml"));
@@ -114,7 +108,7 @@ TEST(OrbSlamFiles, TheUsersCopiesAreTheTestedFiles) {
   if (!fs::is_directory(shared)) GTEST_SKIP() << shared << " not present";
   for (const char* name : {"orbslam2_TUM1.yaml", "orbslam2_TUM2.yaml", "orbslam2_TUM3.yaml", "orbslam3_TUM1.yaml",
                            "fr1_rpy_dev_associations.txt"}) {
-    EXPECT_EQ(ReadText(shared + "/" + name), ReadText(DataFile(name))) << name;
+    EXPECT_EQ(testing::ReadTextFile(shared + "/" + name), testing::ReadTextFile(DataFile(name))) << name;
   }
   for (const char* name : {"orbslam2_TUM1.yaml", "orbslam2_TUM2.yaml", "orbslam2_TUM3.yaml", "orbslam3_TUM1.yaml"}) {
     EXPECT_NO_THROW(LoadSettings(shared + "/" + name)) << name;
@@ -123,7 +117,7 @@ TEST(OrbSlamFiles, TheUsersCopiesAreTheTestedFiles) {
 
 TEST(OrbSlamFiles, ErrorsInTheExampleFilesNameTheirLine) {
   TempDir dir;
-  const std::string tum1 = ReadText(DataFile("orbslam2_TUM1.yaml"));
+  const std::string tum1 = testing::ReadTextFile(DataFile("orbslam2_TUM1.yaml"));
   const int fy_line = LineOf(tum1, "Camera.fy:");
   ASSERT_GT(fy_line, 1);
   const InputError type = LoadError(dir.Write("type.yaml", ReplaceLine(tum1, fy_line, "Camera.fy:abc")));
@@ -139,7 +133,7 @@ TEST(OrbSlamFiles, ErrorsInTheExampleFilesNameTheirLine) {
   const InputError syntax = LoadError(dir.Write("syntax.yaml", ReplaceLine(tum1, point_line, "Viewer.PointSize: [2")));
   EXPECT_GE(syntax.line(), point_line) << syntax.what();
 
-  const std::string tum3v = ReadText(DataFile("orbslam3_TUM1.yaml"));
+  const std::string tum3v = testing::ReadTextFile(DataFile("orbslam3_TUM1.yaml"));
   const int fx3 = LineOf(tum3v, "Camera1.fx:");
   const InputError range3 = LoadError(dir.Write("range3.yaml", ReplaceLine(tum3v, fx3, "Camera1.fx: -5")));
   EXPECT_EQ(range3.line(), fx3) << range3.what();
@@ -148,7 +142,7 @@ TEST(OrbSlamFiles, ErrorsInTheExampleFilesNameTheirLine) {
 
 TEST(OrbSlamFiles, Orbslam3FormsThatContradictAreErrors) {
   TempDir dir;
-  const std::string v3 = ReadText(DataFile("orbslam3_TUM1.yaml"));
+  const std::string v3 = testing::ReadTextFile(DataFile("orbslam3_TUM1.yaml"));
   const InputError both = LoadError(dir.Write("both.yaml", v3 + "Camera.fx: 517.3\n"));
   EXPECT_NE(std::string(both.what()).find("Camera1.fx"), std::string::npos) << both.what();
   EXPECT_GT(both.line(), LineOf(v3, "Camera1.fx"));

@@ -4,14 +4,9 @@
 // are the run's: the ATE/RPE that `esdslam eval` prints for its trajectory, its frame, pose and
 // keyframe counts, and the crowded frames counted from its timing.csv.
 // ESDSLAM_REPORT_SCREENSHOT=FILE copies the screenshot there (docs/report_screenshot.png).
-#include <sys/wait.h>
-
-#include <array>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -21,6 +16,7 @@
 
 #include "report/markup.h"
 #include "report/run_files.h"
+#include "support/program.h"
 #include "support/temp_path.h"
 #include "support/test_paths.h"
 
@@ -29,29 +25,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code = -1;
-  std::string output;
-};
-
 // Runs a shell command in the source tree (the default model path is relative to it).
-Result Shell(const std::string& command) {
-  const std::string line = "cd '" + ::esdslam::testing::SourceDir() + "' && " + command + " 2>&1";
-  Result result;
-  FILE* pipe = ::popen(line.c_str(), "r");
-  if (pipe == nullptr) return result;
-  std::array<char, 4096> buffer;
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) result.output += buffer.data();
-  const int status = ::pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+testing::ShellResult Shell(const std::string& command) {
+  return testing::RunShell("cd '" + testing::SourceDir() + "' && " + command);
 }
 
 std::size_t DataLines(const std::string& path) {
@@ -63,20 +39,20 @@ std::size_t DataLines(const std::string& path) {
 }
 
 TEST(ReportBrowser, ReportOfASyntheticRunRendersWithTheRunsNumbers) {
-  const std::string bin = (fs::path(::esdslam::testing::BinaryDir()) / "esdslam").string();
+  const std::string bin = testing::EsdslamProgram();
   ASSERT_TRUE(fs::exists(bin)) << "build the esdslam target first";
   ASSERT_EQ(Shell("command -v chromium").exit_code, 0) << "chromium is not installed (tools/install_deps.sh)";
   const std::string dir = ::esdslam::testing::TestTempPath("report_browser");
   fs::create_directories(dir);
   const std::string seq = dir + "/seq", run = dir + "/run";
 
-  Result r = Shell(bin + " synth --preset dynamic --frames 60 --seed 3 --out " + seq);
+  testing::ShellResult r = Shell(bin + " synth --preset dynamic --frames 60 --seed 3 --out " + seq);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = Shell(bin + " run --settings " + seq + "/settings.yaml --sequence " + seq + " --out " + run +
             " --single-thread --debug-frames " + run + "/debug --report");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_TRUE(fs::exists(run + "/report.html")) << r.output;
-  const Result eval = Shell(bin + " eval " + seq + "/groundtruth.txt " + run + "/trajectory.txt");
+  const testing::ShellResult eval = Shell(bin + " eval " + seq + "/groundtruth.txt " + run + "/trajectory.txt");
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
 
   // Chromium: its own profile folder, no network use by the page (it has no external reference).
@@ -87,7 +63,7 @@ TEST(ReportBrowser, ReportOfASyntheticRunRendersWithTheRunsNumbers) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = Shell(chromium + "--dump-dom " + url + " > " + dir + "/dom.html");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string dom = ReadText(dir + "/dom.html");
+  const std::string dom = testing::ReadTextFile(dir + "/dom.html");
 
   // The numbers shown are the run's.
   std::istringstream lines(eval.output);
