@@ -131,7 +131,7 @@ int Run(RunArgs args) {
   const RunConfig config = ResolveRunConfig(std::move(settings), args.flags);
   const std::size_t n = input.total_frames;
   std::filesystem::create_directories(config.run.out_dir);
-  RecordRunConfig(config);
+  LogRunConfig(config);
   InstallStopSignals();
   Pipeline pipeline(config);
   LiveOutputs live(config.run.out_dir);

@@ -103,19 +103,13 @@ RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags) {
   return config;
 }
 
-void RecordRunConfig(const RunConfig& config) {
+void LogRunConfig(const RunConfig& config) {
   const Settings& s = config.settings.core;
   const auto& c = s.camera;
-  std::string where = "not saved (no output folder)";
-  if (!config.run.out_dir.empty()) {
-    where = (std::filesystem::path(config.run.out_dir) / "settings_used.yaml").string();
-    try {  // written again with the results; a failure here (disk full, file-size limit) must not stop the run
-      SaveRunSettings(config.settings, where);
-    } catch (const std::exception& e) {
-      spdlog::error("{}", e.what());
-      where += " (not yet: " + std::string(e.what()) + ")";
-    }
-  }
+  // Written with the run's results (system/run_outputs.h), once, whatever ends the run.
+  const std::string where = config.run.out_dir.empty()
+                                ? std::string("not saved (no output folder)")
+                                : (std::filesystem::path(config.run.out_dir) / "settings_used.yaml").string();
   const bool realtime = config.settings.semantic.mode == SegmentationMode::kNewestWins;
   spdlog::info("run: mode {}, {}, seed {}; effective settings in {}", ToString(config.pipeline.mode),
                config.slam.single_thread ? "single thread" : "threaded", config.settings.loop.relocalizer.pnp.seed,

@@ -97,9 +97,9 @@ int MaxFramesBetweenKeyframes(double fps);
 // result. Throws Error on a bad value or combination.
 RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags);
 
-// Writes the effective settings to OUT/settings_used.yaml (when run.out_dir is set; creates no
-// folder beyond SaveRunSettings') and logs one info line; the details and one line per key go
-// to the debug level (`esdslam -v`). Throws Error when the file cannot be written.
-void RecordRunConfig(const RunConfig& config);
+// Logs one info line (mode, threading, seed, where the effective settings will be: the run's
+// outputs write OUT/settings_used.yaml, system/run_outputs.h); the details and one line per key
+// go to the debug level (`esdslam -v`).
+void LogRunConfig(const RunConfig& config);
 
 }  // namespace esdslam
