@@ -22,7 +22,6 @@
 #include "common/error.h"
 #include "common/timer.h"
 #include "io/frame_source.h"
-#include "io/tum_sequence.h"
 #include "report/run_report.h"
 #include "system/frame_log.h"
 #include "system/init_diagnosis.h"
@@ -75,12 +74,11 @@ class Progress {
   bool pending_newline_ = false;
 };
 
-// OUT/report.html, with the sequence's ground truth when it has one.
-void WriteReport(const RunConfig& config, const std::string& summary) {
+// OUT/report.html, with the sequence's ground truth when it has one (groundtruth_path, else "").
+void WriteReport(const RunConfig& config, const std::string& groundtruth_path, const std::string& summary) {
   ReportOptions options;
   options.out_dir = config.run.out_dir;
-  const TumSequence sequence = TumSequence::Open(config.run.sequence_dir);
-  if (sequence.has_groundtruth()) options.groundtruth_path = sequence.groundtruth_path();
+  options.groundtruth_path = groundtruth_path;
   options.debug_frames_dir = config.run.debug_frames_dir;
   options.run_summary = summary;
   spdlog::info("run: report {}", WriteRunReport(options));
@@ -94,19 +92,19 @@ struct RunEnd {
 // Writes every result and prints the summary; returns the exit status: 0, 1 on a failure or a
 // map that never initialised, 128 + signal when stopped by one.
 int Conclude(Pipeline& pipeline, LiveOutputs& live, const FrameLog& log, const InitDiagnosis& init,
-             std::size_t total_frames, std::size_t unreadable, double loop_ms, RunEnd end, bool report) {
+             const RunSource& input, double loop_ms, RunEnd end, bool report) {
   const RunConfig& config = pipeline.config();
   try {
     WriteRunResults(pipeline, live, config.run.out_dir);
   } catch (const std::exception&) {
     end.failed = true;  // (logged by WriteRunResults)
   }
-  const std::string summary = FormatRunSummary(log, total_frames, pipeline.system(), loop_ms, unreadable);
+  const std::string summary = FormatRunSummary(log, input.total_frames, pipeline.system(), loop_ms, input.frames_skipped());
   std::fputs(summary.c_str(), stdout);
   std::fflush(stdout);
   if (report) {
     try {
-      WriteReport(config, summary);
+      WriteReport(config, input.groundtruth_path, summary);
     } catch (const std::exception& e) {
       spdlog::error("run: report: {}", e.what());
       end.failed = true;
@@ -162,7 +160,7 @@ int Run(RunArgs args) {
     end.failed = true;
   }
   progress.Break();
-  return Conclude(pipeline, live, log, init, n, input.frames_skipped(), total.ElapsedMs(), end, args.report);
+  return Conclude(pipeline, live, log, init, input, total.ElapsedMs(), end, args.report);
 }
 
 // --camera and its options; returns --camera (given when its count is > 0).

@@ -82,6 +82,7 @@ RunSource OpenRunSource(const RunOptions& run, const CameraArgs& camera, int max
   std::vector<FrameEntry> frames(sequence.frames().begin(), sequence.frames().begin() + n);
   RunSource input;
   input.total_frames = n;
+  if (sequence.has_groundtruth()) input.groundtruth_path = sequence.groundtruth_path();
   FolderSourceOptions options;
   options.max_consecutive_bad_frames = max_consecutive_bad_frames;
   options.image_size = {settings->camera.width, settings->camera.height};

@@ -28,6 +28,7 @@ struct RunSource {
   std::unique_ptr<FrameSource> source;
   std::size_t total_frames = 0;  // frames in the input (the summary's "of", dropped ones included); 0 = unknown
   const TumFolderSource* folder = nullptr;  // the folder read, inside `source` (null for a camera)
+  std::string groundtruth_path;             // the folder's groundtruth.txt when it has one, else ""
   // Frames of the folder skipped as unreadable so far.
   std::size_t frames_skipped() const { return folder != nullptr ? folder->frames_skipped() : 0; }
 };
