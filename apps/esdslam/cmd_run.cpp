@@ -214,9 +214,14 @@ RunFn Setup(CLI::App& app) {
                  "growing masks) | geometry (multi-view geometry check only, no network) | full (both)")
       ->check(CLI::IsMember({"none", "semantic", "geometry", "full"}))
       ->capture_default_str();
+  app.add_option("--segment-every", args->flags.segment_every,
+                 "The network labels every K-th frame on its own thread (and earlier when a predicted mask is no "
+                 "longer trusted); the frames between get the labels carried along the optical flow. 1 = label "
+                 "every frame and wait for it. Default: Semantic.segmentEvery (4)")
+      ->check(CLI::Range(1, 1000));
   app.add_flag("--realtime", args->flags.realtime,
-               "Real-time segmentation hand-off: newest finished labels, carried to the frame by the motion "
-               "model and depth (default: wait for every frame's labels)");
+               "Live input: the network takes the newest frame whenever it is free, its labels are used as soon "
+               "as they are back and carried along the optical flow (never waits, not repeatable)");
   app.add_flag("--live", args->flags.run.live,
                "Sensor-clock playback: frames arrive at their timestamps, a frame arriving while the system is "
                "busy is dropped (counted in the summary and timing.csv's dropped_before)");

@@ -11,8 +11,6 @@
 namespace esdslam {
 namespace {
 
-constexpr std::size_t kPoseHistory = 64;
-
 cv::Mat Dilate(const cv::Mat& mask, int radius_px) { return DilateEllipse(mask, radius_px); }
 
 // Region growing decides the boundary band; the network's interior (mask eroded by
@@ -24,6 +22,16 @@ cv::Mat KeepMaskCore(cv::Mat refined, const cv::Mat& raw_mask) {
   cv::erode(raw_mask, core, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kCoreErosionPx + 1, 2 * kCoreErosionPx + 1)));
   refined.setTo(255, core);
   return refined;
+}
+
+std::optional<LabelSchedule> MakeSchedule(const SemanticSettings& settings) {
+  const bool newest_wins = settings.mode == SegmentationMode::kNewestWins;
+  if (!newest_wins && settings.segment_every <= 1) return std::nullopt;
+  LabelScheduleOptions options;
+  options.segment_every = settings.segment_every;
+  options.label_delay_frames = settings.label_delay_frames;
+  options.newest_wins = newest_wins;
+  return LabelSchedule(options);
 }
 
 }  // namespace
@@ -55,17 +63,23 @@ cv::Mat WarpMask(const cv::Mat& mask, const cv::Mat& depth_a, const Rigid3& b_fr
 }
 
 SemanticFrontEnd::SemanticFrontEnd(const SemanticSettings& settings, const RegionGrowingOptions& growing,
-                                   const PinholeCamera& camera, int mask_dilation_px, int warp_dilation_px)
-    : mode_(settings.mode),
-      groups_(settings.groups, settings.onnx.class_names),
+                                   int mask_dilation_px, bool wait_for_due_labels)
+    : SemanticFrontEnd(MakeSegmenter(settings), settings, growing, mask_dilation_px, wait_for_due_labels) {}
+
+SemanticFrontEnd::SemanticFrontEnd(std::unique_ptr<Segmenter> segmenter, const SemanticSettings& settings,
+                                   const RegionGrowingOptions& growing, int mask_dilation_px,
+                                   bool wait_for_due_labels)
+    : groups_(settings.groups, settings.onnx.class_names),
       growing_(growing),
-      camera_(camera),
       mask_dilation_px_(mask_dilation_px),
-      warp_dilation_px_(warp_dilation_px) {
+      wait_for_due_labels_(wait_for_due_labels),
+      schedule_(MakeSchedule(settings)) {
   growing_.Check();
+  // The front end submits only the frames it wants labelled, at most one in flight in
+  // predicted mode: the worker segments every submitted frame, in order.
   SegmentationWorkerOptions options;
-  options.mode = settings.mode;
-  worker_ = std::make_unique<SegmentationWorker>(MakeSegmenter(settings), options);
+  options.mode = SegmentationMode::kEveryFrame;
+  worker_ = std::make_unique<SegmentationWorker>(std::move(segmenter), options);
 }
 
 SemanticFrontEnd::~SemanticFrontEnd() { Stop(); }
@@ -75,27 +89,79 @@ void SemanticFrontEnd::Stop() {
 }
 
 void SemanticFrontEnd::Submit(std::int64_t id, double timestamp, const cv::Mat& bgr) {
+  if (schedule_ && !schedule_->Submit(id, needs_labels_)) return;
   if (!worker_->Submit({id, timestamp, bgr})) throw Error("semantic: segmentation worker stopped");
 }
 
-DynamicMaskResult SemanticFrontEnd::MaskFor(std::int64_t id, const cv::Mat& depth_m) {
+DynamicMaskResult SemanticFrontEnd::MaskFor(std::int64_t id, const cv::Mat& bgr, const cv::Mat& depth_m) {
   DynamicMaskResult out;
-  Stopwatch wait;
-  const std::optional<SegmentedFrame> done =
-      mode_ == SegmentationMode::kEveryFrame ? worker_->WaitFor(id) : worker_->Latest();
-  out.wait_ms = wait.ElapsedMs();
-  if (!done) return out;  // real time: nothing segmented yet
   Stopwatch refine;
-  out.source_id = done->id;
-  out.segment_ms = done->result.segment_ms;
-  out.latency_ms = done->latency_ms;
-  SemanticMasks masks = groups_.Masks(done->result.labels);
-  if (done->id != id) {
-    masks.dynamic = CarryToFrame(masks.dynamic, done->id, id);
-    masks.potentially_dynamic = CarryToFrame(masks.potentially_dynamic, done->id, id);
-    masks.static_objects = CarryToFrame(masks.static_objects, done->id, id);
-    out.warped = true;
+  SemanticMasks masks;
+  if (schedule_) {
+    masks = PredictedMasks(id, bgr, depth_m, out);
+  } else {
+    Stopwatch wait;
+    const std::optional<SegmentedFrame> done = worker_->WaitFor(id);
+    out.wait_ms = wait.ElapsedMs();
+    if (!done) return out;
+    out.source_id = done->id;
+    out.segment_ms = done->result.segment_ms;
+    out.latency_ms = done->latency_ms;
+    masks = groups_.Masks(done->result.labels);
   }
+  if (out.source_id < 0) return out;  // no labels yet
+  Refine(masks, depth_m, out);
+  out.refine_ms = refine.ElapsedMs() - out.wait_ms;
+  return out;
+}
+
+// Predicted mode: the frame added to the predictor, the labels due at this frame added, the
+// newest labels carried to it.
+SemanticMasks SemanticFrontEnd::PredictedMasks(std::int64_t id, const cv::Mat& bgr, const cv::Mat& depth_m,
+                                               DynamicMaskResult& out) {
+  Stopwatch predict;
+  ThreadCpuStopwatch predict_cpu;
+  if (!predictor_) predictor_ = std::make_unique<MaskPredictor>(bgr.size(), MaskPredictorOptions(), ClassGroups(groups_));
+  predictor_->AddFrame(id, bgr, depth_m);
+  const double add_ms = predict.ElapsedMs(), add_cpu_ms = predict_cpu.ElapsedMs();
+  AddDueLabels(id, out);
+  predict.Restart();
+  predict_cpu.Restart();
+  MaskPrediction prediction = predictor_->Predict();
+  out.predict_ms = add_ms + predict.ElapsedMs();
+  out.predict_cpu_ms = add_cpu_ms + predict_cpu.ElapsedMs();
+  needs_labels_ = prediction.needs_labels;
+  out.source_id = prediction.source_id;
+  out.warped = prediction.label_age > 0;
+  out.trust = prediction.trust;
+  out.segment_ms = source_segment_ms_;
+  out.latency_ms = source_latency_ms_;
+  return std::move(prediction.masks);
+}
+
+// The labels of the frame in flight, when due at frame id: waited for (single thread) or taken
+// if back (threaded), and given to the predictor.
+void SemanticFrontEnd::AddDueLabels(std::int64_t id, DynamicMaskResult& out) {
+  const std::optional<std::int64_t> due = schedule_->Due(id);
+  if (!due) return;
+  std::optional<SegmentedFrame> done;
+  if (wait_for_due_labels_) {
+    Stopwatch wait;
+    done = worker_->WaitFor(*due);
+    out.wait_ms = wait.ElapsedMs();
+  } else {
+    done = worker_->Latest();  // one frame in flight: the newest result is it once it is back
+    if (!done || done->id != *due) return;
+  }
+  schedule_->Done();
+  if (!done) return;  // never segmented (stopped)
+  if (predictor_->AddLabels(done->id, done->result.labels)) {
+    source_segment_ms_ = done->result.segment_ms;
+    source_latency_ms_ = done->latency_ms;
+  }
+}
+
+void SemanticFrontEnd::Refine(const SemanticMasks& masks, const cv::Mat& depth_m, DynamicMaskResult& out) const {
   Stopwatch grow;
   ThreadCpuStopwatch grow_cpu;
   cv::Mat refined = RefineDynamicMask(masks.dynamic, depth_m, growing_);
@@ -104,40 +170,7 @@ DynamicMaskResult SemanticFrontEnd::MaskFor(std::int64_t id, const cv::Mat& dept
   out.mask = Dilate(KeepMaskCore(refined, masks.dynamic), mask_dilation_px_);
   out.potentially_dynamic = masks.potentially_dynamic;
   out.static_objects = masks.static_objects;
-  out.refine_ms = refine.ElapsedMs();
   out.dynamic_fraction = static_cast<double>(cv::countNonZero(out.mask)) / std::max<int>(1, out.mask.total());
-  return out;
-}
-
-void SemanticFrontEnd::RecordPose(std::int64_t id, const cv::Mat& depth_m, const std::optional<Rigid3>& world_from_cam) {
-  if (mode_ != SegmentationMode::kNewestWins || !world_from_cam) return;
-  poses_.push_back({id, depth_m, *world_from_cam});
-  if (poses_.size() > kPoseHistory) poses_.pop_front();
-}
-
-const SemanticFrontEnd::PoseRecord* SemanticFrontEnd::Record(std::int64_t id) const {
-  for (const PoseRecord& record : poses_) {
-    if (record.id == id) return &record;
-  }
-  return nullptr;
-}
-
-// The source frame's mask moved to frame `id`: current pose predicted by the constant velocity
-// of the last two tracked frames (per frame step), applied from the last tracked frame.
-cv::Mat SemanticFrontEnd::CarryToFrame(const cv::Mat& mask, std::int64_t source_id, std::int64_t id) const {
-  const PoseRecord* source = Record(source_id);
-  if (source == nullptr || poses_.empty()) return Dilate(mask, warp_dilation_px_);
-  const PoseRecord& last = poses_.back();
-  Rigid3 cam_from_world = last.world_from_cam.inverse();
-  if (poses_.size() >= 2) {
-    const PoseRecord& before = poses_[poses_.size() - 2];
-    const Rigid3 step = last.world_from_cam.inverse() * before.world_from_cam;  // last_from_before
-    const std::int64_t gap = std::max<std::int64_t>(1, last.id - before.id);
-    if (gap == 1) {
-      for (std::int64_t k = last.id; k < id; ++k) cam_from_world = step * cam_from_world;
-    }
-  }
-  return WarpMask(mask, source->depth_m, cam_from_world * source->world_from_cam, camera_, warp_dilation_px_);
 }
 
 }  // namespace esdslam

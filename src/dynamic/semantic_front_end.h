@@ -1,21 +1,26 @@
 #pragma once
-// The semantic stage of a run: segmentation thread hand-off and dynamic masks.
+// The semantic stage of a run: what the network labels, and each frame's dynamic mask.
 //
-// Every frame's image is submitted to the SegmentationWorker as soon as it is loaded; the caller
-// submits frame i+1 before tracking frame i, so segmentation runs in parallel with ORB
-// extraction and tracking (2 cores) while the mask of the frame being tracked is already known
-// at extraction time (no keypoint budget is lost on people: the extractor spends it on the
-// static area).
-//   every frame (SegmentationMode::kEveryFrame): MaskFor(id) waits for frame id's labels.
-//   real time  (kNewestWins): MaskFor(id) never waits; it takes the newest finished result and,
-//               if that is an older frame, forward-warps its dynamic pixels into the current
-//               frame with the older frame's depth and the relative pose predicted by the
-//               constant-velocity model of the recorded poses, then dilates by warp_dilation_px.
-// Dynamic mask = RefineDynamicMask(dynamic-class mask, current depth) plus the network mask's
-// interior (eroded by 3 px), dilated by mask_dilation_px (Dynamic.maskDilation).
+// Two hand-offs (SemanticSettings::segment_every, ::mode):
+//   every frame (segment_every 1): every frame's image goes to the SegmentationWorker as soon as
+//     it is loaded (the run loop submits frame i+1 before tracking frame i, so the network works
+//     while frame i is extracted and tracked), and MaskFor(id) waits for frame id's labels.
+//   predicted (segment_every K > 1, or --realtime): the network labels only some frames, on its
+//     own thread, by the LabelSchedule (dynamic/label_schedule.h: every K-th frame, earlier when
+//     the predicted mask is no longer trusted, one frame in flight). Every frame gets the newest
+//     labels carried to it along dense optical flow (MaskPredictor, dynamic/mask_predictor.h:
+//     the people's own motion and the camera's). Labels are used from L frames after their
+//     frame on; a threaded run takes them when they are back (never waits), a single-thread run
+//     (wait_for_due_labels) waits for them at exactly that frame, so its masks repeat exactly.
+// Either way the mask goes through the same refinement: dynamic mask = RefineDynamicMask(dynamic-
+// class mask, current depth) plus the class mask's interior (eroded by 3 px), dilated by
+// mask_dilation_px (Dynamic.maskDilation). A predicted mask steers the extractor's keypoint
+// budget exactly as a fresh one does (it is the same DynamicMaskResult).
+//
+// Threading: all calls from one thread (the tracking thread); the SegmentationWorker owns the
+// network's thread.
 
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <optional>
 
@@ -23,6 +28,8 @@
 
 #include "camera/pinhole_camera.h"
 #include "common/geometry.h"
+#include "dynamic/label_schedule.h"
+#include "dynamic/mask_predictor.h"
 #include "dynamic/region_growing.h"
 #include "semantic/class_groups.h"
 #include "semantic/segmentation_worker.h"
@@ -31,15 +38,18 @@
 namespace esdslam {
 
 struct DynamicMaskResult {
-  cv::Mat mask;                    // CV_8U, 255 = dynamic (refined); empty if no result yet
+  cv::Mat mask;                    // CV_8U, 255 = dynamic (refined); empty if no labels yet
   cv::Mat potentially_dynamic;     // CV_8U, 255 = potentially dynamic class; empty if none
   cv::Mat static_objects;          // CV_8U, 255 = labelled static class (not background); empty if none
   std::int64_t source_id = -1;     // frame whose labels were used (-1: none)
   bool warped = false;             // labels of an older frame carried to this one
-  double wait_ms = 0;              // time MaskFor blocked on the worker
+  double trust = 1;                // predicted masks: MaskPrediction::trust; 1 for fresh labels
+  double wait_ms = 0;              // time MaskFor blocked on the network
   double segment_ms = 0;           // network time of the source frame
   double latency_ms = 0;           // submit -> result of the source frame
-  double refine_ms = 0;            // class masks + warp + region growing + dilation
+  double predict_ms = 0;           // mask prediction (flow + carrying), wall time
+  double predict_cpu_ms = 0;       // the same, CPU time of the calling thread
+  double refine_ms = 0;            // class masks + prediction + region growing + dilation
   double grow_ms = 0;              // region growing alone (RefineDynamicMask)
   double grow_cpu_ms = 0;          // the same, CPU time of the calling thread
   double dynamic_fraction = 0;     // of the image area
@@ -47,42 +57,45 @@ struct DynamicMaskResult {
 
 class SemanticFrontEnd {
  public:
-  SemanticFrontEnd(const SemanticSettings& settings, const RegionGrowingOptions& growing,
-                   const PinholeCamera& camera, int mask_dilation_px = 0, int warp_dilation_px = 5);
+  // wait_for_due_labels: predicted mode waits for due labels (single-thread runs: deterministic).
+  SemanticFrontEnd(const SemanticSettings& settings, const RegionGrowingOptions& growing, int mask_dilation_px = 0,
+                   bool wait_for_due_labels = false);
+  // The same with a given segmenter (tests).
+  SemanticFrontEnd(std::unique_ptr<Segmenter> segmenter, const SemanticSettings& settings,
+                   const RegionGrowingOptions& growing, int mask_dilation_px = 0, bool wait_for_due_labels = false);
   ~SemanticFrontEnd();
 
-  // Ids must increase. bgr is shared, not copied: do not write to it afterwards.
+  // Frame `id` is loaded (ids increase): every frame mode segments it; predicted mode when the
+  // schedule says so. bgr is shared, not copied: do not write to it afterwards.
   void Submit(std::int64_t id, double timestamp, const cv::Mat& bgr);
-  // depth_m: CV_32F metres of frame `id`. Throws Error if the segmenter failed.
-  DynamicMaskResult MaskFor(std::int64_t id, const cv::Mat& depth_m);
-  // After tracking frame id: its pose (if any) and depth, for the real-time warp.
-  void RecordPose(std::int64_t id, const cv::Mat& depth_m, const std::optional<Rigid3>& world_from_cam);
+  // The mask of frame id (submitted; masks asked in id order). bgr: CV_8UC3, depth_m: CV_32F
+  // metres of frame id. Throws Error if the segmenter failed.
+  DynamicMaskResult MaskFor(std::int64_t id, const cv::Mat& bgr, const cv::Mat& depth_m);
 
   void Stop();
   SegmentationWorkerStats Stats() const { return worker_->Stats(); }
-  SegmentationMode mode() const { return mode_; }
+  bool predicted() const { return schedule_.has_value(); }
 
  private:
-  struct PoseRecord {
-    std::int64_t id;
-    cv::Mat depth_m;
-    Rigid3 world_from_cam;
-  };
-  cv::Mat CarryToFrame(const cv::Mat& mask, std::int64_t source_id, std::int64_t id) const;
-  const PoseRecord* Record(std::int64_t id) const;
+  void AddDueLabels(std::int64_t id, DynamicMaskResult& out);
+  SemanticMasks PredictedMasks(std::int64_t id, const cv::Mat& bgr, const cv::Mat& depth_m, DynamicMaskResult& out);
+  void Refine(const SemanticMasks& masks, const cv::Mat& depth_m, DynamicMaskResult& out) const;
 
-  SegmentationMode mode_;
   ClassGroups groups_;
   RegionGrowingOptions growing_;
-  PinholeCamera camera_;
   int mask_dilation_px_;
-  int warp_dilation_px_;
+  bool wait_for_due_labels_;
+  std::optional<LabelSchedule> schedule_;        // predicted mode only
+  std::unique_ptr<MaskPredictor> predictor_;     // predicted mode, made at the first frame
+  bool needs_labels_ = true;                     // the newest prediction asks for labels
+  double source_segment_ms_ = 0, source_latency_ms_ = 0;  // of the labels in the predictor
   std::unique_ptr<SegmentationWorker> worker_;
-  std::deque<PoseRecord> poses_;  // recent tracked frames, oldest first
 };
 
 // Forward-warps the nonzero pixels of `mask` (frame a, depth_a in metres) into frame b
 // (b_from_a), pinhole model; pixels without depth stay in place. Result dilated by dilation_px.
+// (The camera-motion-only carrying; mask prediction follows the flow instead. Kept as the
+// baseline of benchmarks/mask_prediction_bench.)
 cv::Mat WarpMask(const cv::Mat& mask, const cv::Mat& depth_a, const Rigid3& b_from_a, const PinholeCamera& camera,
                  int dilation_px);
 

@@ -50,6 +50,11 @@ void SetModel(SemanticSettings& settings, const std::string& path, const std::st
   SizeFromModelName(path, settings.onnx.input_width, settings.onnx.input_height);
 }
 
+void ApplyLabelSchedule(SemanticSettings& settings) {
+  if (settings.model_auto) SetModel(settings, settings.predicted() ? kFastSegmentationModel : kDefaultSegmentationModel);
+  if (settings.threads_auto) settings.onnx.threads = settings.predicted() ? 1 : 0;
+}
+
 void SemanticSettings::Check() const {
   try {
     groups.Check(onnx.class_names);
@@ -62,6 +67,8 @@ void SemanticSettings::Check() const {
   // Both segmenters' bound keys are checked, whichever is chosen.
   CheckRange("Semantic.maskTolerance", folder.tolerance_s, 0.0, 10.0, "s");
   CheckRange("Semantic.threads", onnx.threads, 0, 256);
+  CheckRange("Semantic.segmentEvery", segment_every, 1, 1000, "frames (1 = every frame)");
+  CheckRange("Semantic.labelDelay", label_delay_frames, 0, 100, "frames");
   if (kind == Kind::kOnnx) onnx.Check();
   else folder.Check();
 }

@@ -43,6 +43,10 @@ const std::vector<FrameColumn>& FrameColumns() {
     {"geometry_cpu_ms", "ms", 3, [](R r) { return r.track.geometry.check_cpu_ms; }},
     // Frames the source dropped just before this one (live playback, a camera); 0 from a folder.
     {"dropped_before", "frames", kInt, [](R r) { return static_cast<double>(r.dropped_before); }},
+    // Predicted masks (dynamic/semantic_front_end.h): the optical flow and carrying, and the trust.
+    {"predict_ms", "ms", 3, [](R r) { return r.mask.predict_ms; }, "predict"},
+    {"predict_cpu_ms", "ms", 3, [](R r) { return r.mask.predict_cpu_ms; }},
+    {"label_trust", "", 3, [](R r) { return r.mask.trust; }},
     // Summary only: the dynamic stages together (region growing + geometry check).
     {"dynamic_ms", "ms", 3, [](R r) { return r.mask.grow_ms + r.track.geometry.check_ms; }, "grow+geo", false},
     {"dynamic_cpu_ms", "ms", 3, [](R r) { return r.mask.grow_cpu_ms + r.track.geometry.check_cpu_ms; }, "(cpu)",

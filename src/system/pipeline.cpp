@@ -1,7 +1,5 @@
 #include "system/pipeline.h"
 
-#include <optional>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -54,8 +52,8 @@ KeypointCounts CountKeypoints(const FeatureSet& features) {
 Pipeline::Pipeline(const RunConfig& config) : config_(Checked(config)) {
   const RunSettings& settings = config_.settings;
   if (UsesSegmentation(config_.pipeline.mode))
-    semantic_ = std::make_unique<SemanticFrontEnd>(settings.semantic, settings.region_growing,
-                                                   PinholeCamera(settings.core.camera), settings.mask_dilation_px);
+    semantic_ = std::make_unique<SemanticFrontEnd>(settings.semantic, settings.region_growing, settings.mask_dilation_px,
+                                                   config_.slam.single_thread);
   system_ = std::make_unique<SlamSystem>(settings.core, config_.slam);
   if (config_.pipeline.dense) {
     dense_poses_ = std::make_unique<SlamKeyframePoses>(&system_->map());
@@ -95,16 +93,11 @@ FrameReport Pipeline::Track(const RgbdFrame& frame) {
   ahead_.pop_front();
   report.timestamp = frame.timestamp;
   report.bgr = frame.bgr;
-  if (semantic_) report.mask = semantic_->MaskFor(report.index, frame.depth_m);
+  if (semantic_) report.mask = semantic_->MaskFor(report.index, frame.bgr, frame.depth_m);
   report.track = system_->TrackRgbd(frame.bgr, frame.depth_m, frame.timestamp, report.mask.mask,
                                     GeometryExempt(report.mask));
   report.features = system_->last_frame().shared_features();
   report.keypoints = CountKeypoints(*report.features);
-  if (semantic_) {
-    std::optional<Rigid3> pose;
-    if (report.track.has_pose) pose = report.track.world_from_cam;
-    semantic_->RecordPose(report.index, frame.depth_m, pose);
-  }
   if (report.track.new_keyframe)
     AddDenseKeyframe(frame, Union(report.mask.mask, report.geometry_mask()), report.track.keyframe);
   return report;

@@ -5,21 +5,22 @@
 // (system/run_loop.h) feeds it from a FrameSource.
 //
 // Per frame, Track():
-//   1. the frame's dynamic mask from the semantic stage (every frame: waits for its labels; real
-//      time: the newest labels carried to the frame), empty without segmentation;
+//   1. the frame's dynamic mask from the semantic stage (every frame: waits for its labels;
+//      predicted: the newest labels carried to the frame along the optical flow,
+//      dynamic/semantic_front_end.h), empty without segmentation;
 //   2. tracking with it (SlamSystem::TrackRgbd: the extractor spends its budget on the static
 //      area; the geometry check runs inside tracking, the semantic mask and labelled static
 //      classes exempt from it);
-//   3. the pose recorded for the real-time mask carrying; a new keyframe handed to the dense
-//      mapper with its depth masked by the semantic and the geometry masks;
+//   3. a new keyframe handed to the dense mapper with its depth masked by the semantic and the
+//      geometry masks;
 //   4. the FrameReport (system/frame_report.h).
 // Look-ahead: SubmitAhead(frame) hands a frame's colour image to the segmentation thread before
 // the previous frame is tracked, so the network runs while extraction and tracking do (the run
 // loop submits frame i+1, then tracks frame i). A frame not submitted ahead is submitted by
 // Track itself (a live caller without look-ahead simply calls Track). Frames are numbered in
 // submission order (FrameReport::index); they must be tracked in that order.
-// Seams for later work: the frame's id is the one place to decide which frames the network
-// labels (segment every K-th frame); a user's own dynamic mask would join the mask in step 1.
+// Which frames the network labels is decided by frame id in the semantic stage (LabelSchedule);
+// a user's own dynamic mask would join the mask in step 1.
 //
 // Threading: all calls from one thread (the tracking thread). The segmentation, local-mapping,
 // loop-closing and dense threads are owned here and stopped by Finish() or the destructor.

@@ -6,6 +6,7 @@
 #include <iterator>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "common/error.h"
@@ -80,6 +81,8 @@ RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags) {
   if (flags.no_relocalization) settings.loop.relocalization = false;
   if (flags.no_loop) settings.loop.closing = false;
   if (flags.realtime) settings.semantic.mode = SegmentationMode::kNewestWins;
+  if (flags.segment_every > 0) settings.semantic.segment_every = flags.segment_every;
+  ApplyLabelSchedule(settings.semantic);
   settings.loop.relocalizer.pnp.seed = flags.seed;
   settings.loop.closer.verification.ransac.seed = flags.seed;
   config.settings = std::move(settings);
@@ -110,7 +113,13 @@ void LogRunConfig(const RunConfig& config) {
   const std::string where = config.run.out_dir.empty()
                                 ? std::string("not saved (no output folder)")
                                 : (std::filesystem::path(config.run.out_dir) / "settings_used.yaml").string();
-  const bool realtime = config.settings.semantic.mode == SegmentationMode::kNewestWins;
+  const SemanticSettings& semantic = config.settings.semantic;
+  const std::string labels = semantic.mode == SegmentationMode::kNewestWins
+                                 ? std::string("newest frame whenever the network is free, predicted masks between")
+                             : semantic.segment_every == 1
+                                 ? std::string("every frame")
+                                 : fmt::format("every {}th frame, predicted masks between (labels used {} frames later)",
+                                               semantic.segment_every, semantic.label_delay_frames);
   spdlog::info("run: mode {}, {}, seed {}; effective settings in {}", ToString(config.pipeline.mode),
                config.slam.single_thread ? "single thread" : "threaded", config.settings.loop.relocalizer.pnp.seed,
                where);
@@ -118,7 +127,7 @@ void LogRunConfig(const RunConfig& config) {
                 config.run.live ? " (live: sensor-clock playback, frames dropped while busy)" : "");
   spdlog::debug("run: camera fx={} fy={} cx={} cy={} k=[{} {} {} {} {}] {}x{} fps={}", c.fx, c.fy, c.cx, c.cy, c.k1,
                 c.k2, c.p1, c.p2, c.k3, c.width, c.height, s.fps);
-  spdlog::debug("run: segmentation {}, dense {}, debug frames {}", realtime ? "real time (newest wins)" : "every frame",
+  spdlog::debug("run: segmentation labels {}, model {}, dense {}, debug frames {}", labels, semantic.onnx.model_path,
                 config.pipeline.dense ? "on" : "off",
                 config.run.debug_frames_dir.empty() ? "off" : config.run.debug_frames_dir);
   std::istringstream lines(RunSettingsYaml(config.settings));

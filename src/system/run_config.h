@@ -11,11 +11,14 @@
 // ResolveRunConfig is the only place where a flag or one setting decides another value:
 //   --no-loop, --no-relocalization  Loop.closing: 0, Loop.relocalization: 0
 //   --realtime                      Semantic.realtime: 1 (newest-wins segmentation hand-off)
+//   --segment-every K               Semantic.segmentEvery: K
+//   --realtime, --segment-every     the model and its threads when not given (ApplyLabelSchedule)
 //   --seed                          the relocalization PnP RANSAC and loop verification RANSAC seeds
 //   Camera.fps                      slam.tracker.max_frames_between_keyframes (ORB-SLAM2: fps)
 //   --mode                          slam.geometry_check; slam.frame.mask_extraction (with
 //                                   segmentation the mask is known before extraction)
-//   --single-thread                 slam.single_thread; pipeline.threaded_dense = false
+//   --single-thread                 slam.single_thread; pipeline.threaded_dense = false; predicted
+//                                   masks wait for due labels (semantic_front_end.h)
 //   --dense with run.out_dir        pipeline.dense_mask_dir = OUT/masks
 
 #include <cstdint>
@@ -68,6 +71,7 @@ struct RunFlags {
   RunOptions run;  // taken as it is
   DynamicMode mode = DynamicMode::kFull;
   bool realtime = false;  // newest-wins segmentation (as Semantic.realtime: 1)
+  int segment_every = 0;  // > 0: as Semantic.segmentEvery (1 = every frame's labels); 0 = the settings'
   bool single_thread = false;
   // Seeds the run's random choices: the RANSACs of relocalization (PnP) and of loop
   // verification (rigid), via settings.loop. 1 is the options' default seed.

@@ -83,6 +83,8 @@ SemanticKeys SemanticKeys::From(const SemanticSettings& s) {
   k.mask_tolerance_s = s.folder.tolerance_s;
   k.allow_missing_masks = s.folder.allow_missing;
   k.realtime = s.mode == SegmentationMode::kNewestWins;
+  k.segment_every = s.segment_every;
+  k.label_delay = s.label_delay_frames;
   return k;
 }
 
@@ -90,13 +92,21 @@ SemanticSettings SemanticKeys::ToSemanticSettings(const std::string& settings_di
   SemanticSettings s;
   if (segmenter == "folder") s.kind = SemanticSettings::Kind::kFolder;
   else CheckSetting(segmenter == "onnx", "Semantic.segmenter", "must be onnx or folder, got '" + segmenter + "'");
-  SetModel(s, model, settings_dir);  // also the input size from a _<W>x<H>.onnx name
+  s.mode = realtime ? SegmentationMode::kNewestWins : SegmentationMode::kEveryFrame;
+  s.segment_every = segment_every;
+  s.label_delay_frames = label_delay;
+  s.onnx.threads = threads;
+  s.threads_auto = threads == 0;
+  s.model_auto = model.empty();
+  if (!s.model_auto) SetModel(s, model, settings_dir);  // also the input size from a _<W>x<H>.onnx name
+  ApplyLabelSchedule(s);  // the model (when not given) and threads (when 0) for the schedule
   CheckRange("Semantic.inputWidth", input_width, 0, 4096, "px (0 = from the model name)");
   CheckRange("Semantic.inputHeight", input_height, 0, 4096, "px (0 = from the model name)");
   if (input_width > 0) s.onnx.input_width = input_width;
   if (input_height > 0) s.onnx.input_height = input_height;
-  s.onnx.threads = threads;
+  if (input_width > 0 || input_height > 0) s.model_auto = false;  // sized for the model chosen here
   s.onnx.upsample_scores = upsample_scores;
+  s.onnx.compute_person_probability = false;  // no stage of a run reads it (3-5 ms per network call)
   s.groups.dynamic_classes = SplitNames(dynamic_classes);
   s.groups.potentially_dynamic_classes = SplitNames(potentially_dynamic_classes);
   s.folder.folder = mask_folder;
@@ -105,7 +115,6 @@ SemanticSettings SemanticKeys::ToSemanticSettings(const std::string& settings_di
     s.folder.folder = (std::filesystem::path(settings_dir) / mask_folder).string();
   s.folder.tolerance_s = mask_tolerance_s;
   s.folder.allow_missing = allow_missing_masks;
-  s.mode = realtime ? SegmentationMode::kNewestWins : SegmentationMode::kEveryFrame;
   return s;
 }
 
@@ -122,6 +131,8 @@ void BindSemanticSettings(SemanticKeys& k, SettingsTable& table) {
   table.Add("Semantic.maskTolerance", &k.mask_tolerance_s);
   table.Add("Semantic.allowMissingMasks", &k.allow_missing_masks);
   table.Add("Semantic.realtime", &k.realtime);
+  table.Add("Semantic.segmentEvery", &k.segment_every);
+  table.Add("Semantic.labelDelay", &k.label_delay);
 }
 
 void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
@@ -155,7 +166,7 @@ namespace {
 SettingsTable::KeyLines ReadRunSettings(const std::string& path, bool all_optional, RunSettings& run,
                                         std::vector<std::string>* warnings) {
   SemanticKeys semantic = SemanticKeys::From(run.semantic);
-  semantic.model = kDefaultSegmentationModel;
+  semantic.model = "";  // not given: the model follows the label schedule
   semantic.input_width = semantic.input_height = 0;
   SettingsTable table = MakeTable(run, semantic);
   if (all_optional) table.MakeAllOptional();

@@ -4,12 +4,17 @@
 // about once; SaveRunSettings writes every bound key (settings_used.yaml).
 //
 // Semantic.* keys (all optional):
-//   Semantic.segmenter: onnx | folder                 Semantic.model: .onnx path (resolved)
+//   Semantic.segmenter: onnx | folder
+//   Semantic.model: .onnx path (resolved); not given: espnetv2 256x192 with Semantic.segmentEvery
+//     > 1 or realtime, 384x288 with every-frame labels (ApplyLabelSchedule)
 //   Semantic.inputWidth/inputHeight: 0 = from a model name ending in _<W>x<H>.onnx
 //   Semantic.threads, Semantic.upsampleScores (1/0)
 //   Semantic.dynamicClasses, Semantic.potentiallyDynamicClasses: a YAML list or "a,b" text
 //   Semantic.maskFolder, Semantic.maskTolerance (s), Semantic.allowMissingMasks (folder segmenter)
-//   Semantic.realtime: 1 = newest-wins segmentation thread, 0 = every frame
+//   Semantic.realtime: 1 = newest-wins: the network takes the newest frame whenever it is free
+//   Semantic.segmentEvery: K, 1 = every frame (tracking waits for its labels); K > 1 (default 4)
+//     = every K-th frame, predicted masks between (dynamic/semantic_front_end.h)
+//   Semantic.labelDelay: labels used from this many frames after their frame on (default 2)
 // Dynamic.* keys: Dynamic.grow.* (RegionGrowingOptions) and Dynamic.check.* (GeometryFilterOptions:
 // the check itself, its own region growing under Dynamic.check.grow.*, reference keyframes,
 // keyframe depth kept, culling), see BindDynamicSettings in run_settings.cpp.
@@ -47,7 +52,7 @@ struct RunSettings {
 // (model path resolution, input size from the model name, class lists).
 struct SemanticKeys {
   std::string segmenter = "onnx";
-  std::string model = kDefaultSegmentationModel;
+  std::string model;  // empty: chosen by the schedule (SemanticSettings::model_auto)
   int input_width = 0, input_height = 0;  // 0 = from the model name (else 384x288)
   int threads = 0;
   bool upsample_scores = true;
@@ -57,6 +62,8 @@ struct SemanticKeys {
   double mask_tolerance_s = 0.02;
   bool allow_missing_masks = false;
   bool realtime = false;
+  int segment_every = 4;
+  int label_delay = 2;
 
   // The keys of `settings` (inverse of ToSemanticSettings, for saving).
   static SemanticKeys From(const SemanticSettings& settings);

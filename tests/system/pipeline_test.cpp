@@ -20,10 +20,12 @@ namespace {
 
 constexpr int kFrames = 12;
 
-RunConfig Config() {
+// segment_every 1: every frame's labels (waited for); K > 1: predicted masks between.
+RunConfig Config(int segment_every = 1, bool single_thread = true) {
   RunFlags flags;
-  flags.single_thread = true;
+  flags.single_thread = single_thread;
   flags.mode = DynamicMode::kFull;
+  flags.segment_every = segment_every;
   return ResolveRunConfig(LoadRunSettings(testing::DynamicTestSequence(kFrames) + "/run.yaml"), flags);
 }
 
@@ -83,6 +85,64 @@ TEST(PipelineTest, RunLoopReportsEveryFrameOnce) {
   }
   EXPECT_EQ(masked, kFrames);  // the people are in view from the first frame (perfect labels)
   EXPECT_EQ(reports.back().track.geometry.ran, true);
+}
+
+std::vector<FrameReport> RunAll(const RunConfig& config, const std::vector<RgbdFrame>& frames,
+                                std::vector<StampedPose>* trajectory) {
+  MemorySource source(frames);
+  Pipeline pipeline(config);
+  std::vector<FrameReport> reports;
+  RunFrames(source, pipeline, [&](const FrameReport& report) { reports.push_back(report); });
+  pipeline.StopSlam();
+  *trajectory = pipeline.system().Trajectory();
+  return reports;
+}
+
+// Labels every 4th frame, used 2 frames later, predicted masks between: frames 0-1 have no
+// labels, frame j has those of the newest 4k <= j - 2; a single-thread run repeats exactly.
+TEST(PipelineTest, PredictedMasksFollowTheScheduleAndRepeatInASingleThreadRun) {
+  const RunConfig config = Config(4);
+  const std::vector<RgbdFrame> frames = Frames(config);
+  std::vector<StampedPose> first, second;
+  const std::vector<FrameReport> a = RunAll(config, frames, &first), b = RunAll(config, frames, &second);
+  ASSERT_EQ(a.size(), frames.size());
+  for (std::size_t j = 0; j < a.size(); ++j) {
+    const long expected_source = j < 2 ? -1 : static_cast<long>((j - 2) / 4 * 4);
+    EXPECT_EQ(a[j].mask.source_id, expected_source) << j;
+    EXPECT_EQ(a[j].mask.mask.empty(), j < 2) << j;
+    if (j >= 2) {
+      EXPECT_GT(a[j].mask.dynamic_fraction, 0.01) << j;  // the people, carried
+    }
+    ASSERT_EQ(a[j].mask.mask.empty(), b[j].mask.mask.empty()) << j;
+    if (!a[j].mask.mask.empty()) {
+      EXPECT_EQ(cv::countNonZero(a[j].mask.mask != b[j].mask.mask), 0) << j;
+    }
+  }
+  ASSERT_EQ(first.size(), second.size());
+  for (std::size_t i = 0; i < first.size(); ++i) {
+    EXPECT_EQ(first[i].world_from_cam.translation(), second[i].world_from_cam.translation()) << i;
+    EXPECT_EQ(first[i].world_from_cam.rotation().coeffs(), second[i].world_from_cam.rotation().coeffs()) << i;
+  }
+}
+
+// Threaded: tracking never waits for the network (labels are taken when they are back).
+TEST(PipelineTest, PredictedMasksNeverWaitInAThreadedRun) {
+  const RunConfig config = Config(4, false);
+  const std::vector<RgbdFrame> frames = Frames(config);
+  std::vector<StampedPose> trajectory;
+  const std::vector<FrameReport> reports = RunAll(config, frames, &trajectory);
+  ASSERT_EQ(reports.size(), frames.size());
+  int labelled = 0;
+  for (const FrameReport& r : reports) {
+    EXPECT_EQ(r.mask.wait_ms, 0) << r.index;
+    if (r.mask.source_id >= 0) {
+      EXPECT_EQ(r.mask.source_id % 4, 0) << r.index;
+      EXPECT_LE(r.mask.source_id, r.index - 2) << r.index;
+    }
+    labelled += r.mask.source_id >= 0;
+  }
+  EXPECT_GT(labelled, 0);
+  EXPECT_EQ(trajectory.size(), frames.size());
 }
 
 // A caller without look-ahead (one Track per frame) gets the same trajectory: every-frame mode

@@ -48,6 +48,32 @@ TEST(RunConfigTest, FlagsOverrideTheSettingsFileOnce) {
   EXPECT_EQ(MaxFramesBetweenKeyframes(0.4), 1);
 }
 
+// Labels every 4th frame by default, with the smaller network on one OpenCV thread; every-frame
+// labels (--segment-every 1) take the larger one; a model or thread count given stays.
+TEST(RunConfigTest, LabelScheduleChoosesTheModelWhenNotGiven) {
+  const RunSettings file = SettingsFrom("schedule", "");
+  RunConfig config = ResolveRunConfig(file, RunFlags{});
+  EXPECT_EQ(config.settings.semantic.segment_every, 4);
+  EXPECT_EQ(config.settings.semantic.label_delay_frames, 2);
+  EXPECT_EQ(config.settings.semantic.onnx.input_width, 256);
+  EXPECT_EQ(config.settings.semantic.onnx.threads, 1);
+  RunFlags every;
+  every.segment_every = 1;
+  config = ResolveRunConfig(file, every);
+  EXPECT_EQ(config.settings.semantic.segment_every, 1);
+  EXPECT_EQ(config.settings.semantic.onnx.input_width, 384);
+  EXPECT_EQ(config.settings.semantic.onnx.threads, 0);
+  const RunSettings given =
+      SettingsFrom("schedule_given", "Semantic.segmentEvery: 6\nSemantic.labelDelay: 1\nSemantic.threads: 2\n"
+                                     "Semantic.model: models/espnetv2_s2.0_voc_384x288.onnx\n");
+  config = ResolveRunConfig(given, RunFlags{});
+  EXPECT_EQ(config.settings.semantic.segment_every, 6);
+  EXPECT_EQ(config.settings.semantic.label_delay_frames, 1);
+  EXPECT_EQ(config.settings.semantic.onnx.input_width, 384);
+  EXPECT_EQ(config.settings.semantic.onnx.threads, 2);
+  EXPECT_THROW(SettingsFrom("schedule_bad", "Semantic.segmentEvery: 0\n"), InputError);
+}
+
 TEST(RunConfigTest, ModeAndThreadsDecideTheDerivedOptions) {
   const RunSettings file = SettingsFrom("mode", "Dynamic.check.absThreshold: 0.2\n");
   RunFlags flags;
