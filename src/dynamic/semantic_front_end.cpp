@@ -139,13 +139,18 @@ SemanticMasks SemanticFrontEnd::PredictedMasks(std::int64_t id, const cv::Mat& b
   return std::move(prediction.masks);
 }
 
-// The labels of the frame in flight, when due at frame id: waited for (single thread) or taken
-// if back (threaded), and given to the predictor.
+// The labels of the frame in flight, when due at frame id: waited for (single thread, and the
+// first labels of a run) or taken if back (threaded), and given to the predictor.
 void SemanticFrontEnd::AddDueLabels(std::int64_t id, DynamicMaskResult& out) {
-  const std::optional<std::int64_t> due = schedule_->Due(id);
+  std::optional<std::int64_t> due = schedule_->Due(id);
+  // The map is initialised on the first frames (and the dense map's first keyframe is made
+  // there): the first labels are waited for at once, so that its people are masked. Once, at
+  // start-up; afterwards a threaded run never waits.
+  const bool first_labels = predictor_->source_frame() < 0 && schedule_->in_flight().has_value();
+  if (first_labels) due = schedule_->in_flight();
   if (!due) return;
   std::optional<SegmentedFrame> done;
-  if (wait_for_due_labels_) {
+  if (wait_for_due_labels_ || first_labels) {
     Stopwatch wait;
     done = worker_->WaitFor(*due);
     out.wait_ms = wait.ElapsedMs();

@@ -12,6 +12,8 @@
 //     the people's own motion and the camera's). Labels are used from L frames after their
 //     frame on; a threaded run takes them when they are back (never waits), a single-thread run
 //     (wait_for_due_labels) waits for them at exactly that frame, so its masks repeat exactly.
+//     The first labels of a run (frame 0's) are waited for at frame 0, once: the map and the
+//     dense map start there, and people there must be masked.
 // Either way the mask goes through the same refinement: dynamic mask = RefineDynamicMask(dynamic-
 // class mask, current depth) plus the class mask's interior (eroded by 3 px), dilated by
 // mask_dilation_px (Dynamic.maskDilation). A predicted mask steers the extractor's keypoint

@@ -129,8 +129,12 @@ void ScoreMasks(const FrameReport& report, const cv::Mat& gt, const std::string&
   ++*scored;
 }
 
-RunOutcome RunMode(DynamicMode mode, const std::string& settings_path = SequenceDir() + "/run.yaml") {
+// segment_every: 0 = the default label schedule (predicted masks between network frames); 1 =
+// every frame's own labels.
+RunOutcome RunMode(DynamicMode mode, const std::string& settings_path = SequenceDir() + "/run.yaml",
+                   int segment_every = 0) {
   RunFlags flags;
+  flags.segment_every = segment_every;
   flags.single_thread = true;
   flags.mode = mode;
   flags.mask_extraction = false;  // extract everywhere: the flags are what we measure
@@ -186,8 +190,22 @@ void ExpectMoversRemoved(const RunOutcome& out, double min_precision = 0.9) {
   EXPECT_LT(out.ate_rmse, 0.02);
 }
 
+// Every frame's own labels: nothing of the movers reaches the map.
 TEST(DynamicRunTest, SemanticModeRemovesMoverKeypointsAndKeepsThemOutOfTheMap) {
-  ExpectMoversRemoved(RunMode(DynamicMode::kSemantic));
+  ExpectMoversRemoved(RunMode(DynamicMode::kSemantic, SequenceDir() + "/run.yaml", 1));
+}
+
+// Predicted masks (labels every 4th frame) without the geometry check behind them: the carried
+// mask misses a sliver of a mover now and then, so a few of its points can reach the map
+// (measured: 3 of 1288); full mode (the default) culls them (next test: 0).
+TEST(DynamicRunTest, SemanticModeWithPredictedMasksKeepsAlmostAllMoversOut) {
+  const RunOutcome out = RunMode(DynamicMode::kSemantic);
+  EXPECT_EQ(out.tracked, kFrames);
+  EXPECT_GE(Recall(out), 0.9);
+  EXPECT_GE(Precision(out), 0.9);
+  EXPECT_GT(out.live_points, 300);
+  EXPECT_LE(out.points_from_movers, out.live_points / 100);
+  EXPECT_LT(out.ate_rmse, 0.02);
 }
 
 TEST(DynamicRunTest, FullModeRemovesMoverKeypointsAndKeepsThemOutOfTheMap) {
@@ -216,9 +234,10 @@ TEST(DynamicRunTest, GeometryModeFindsMostMoverKeypointsAndCullsTheirMapPoints) 
 // depth silhouette, so the refined masks match the ground truth better, and full mode still
 // removes the movers' keypoints and keeps them out of the map. Precision is lower (measured 0.885):
 // the refined mask keeps the network mask's interior (eroded by 3 px), which for masks dilated by
-// 8 px still covers 5 px of background around the person.
+// 8 px still covers 5 px of background around the person. Every frame's own labels: the raw
+// IoU compares the labels of the frame the refined mask is made for.
 TEST(DynamicRunTest, RefinedMasksBeatCoarseLabelsAndFullModeStillRemovesMovers) {
-  const RunOutcome full = RunMode(DynamicMode::kFull, CoarseLabelSettings());
+  const RunOutcome full = RunMode(DynamicMode::kFull, CoarseLabelSettings(), 1);
   EXPECT_GT(full.refined_iou, full.raw_iou);
   EXPECT_GT(full.refined_iou, 0.9);
   ExpectMoversRemoved(full, 0.85);
