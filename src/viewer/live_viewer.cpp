@@ -1,0 +1,110 @@
+#include "viewer/live_viewer.h"
+
+#include <spdlog/spdlog.h>
+
+#include "viewer/viewer_json.h"
+
+namespace esdslam {
+
+LiveViewer::LiveViewer(const ViewerOptions& options, SlamSystem* system, const DenseMapper* dense, bool serve)
+    : options_(options), system_(system), dense_(dense),
+      trail_(static_cast<std::size_t>(options.max_dynamic_points)) {
+  options_.Check();
+  if (serve) server_ = std::make_unique<ViewerServer>(options_, &hub_);
+  worker_ = std::make_unique<Worker<Job>>("viewer", WorkerMode::kThread, options_.queue_capacity,
+                                         [this](Job& job) { Handle(job); });
+  worker_->Start();
+  if (server_) spdlog::info("viewer: watch the run at {}", server_->url());
+}
+
+LiveViewer::~LiveViewer() {
+  try {
+    Close();
+  } catch (const std::exception& e) {
+    spdlog::error("viewer: {}", e.what());
+  }
+}
+
+void LiveViewer::Offer(const FrameReport& report) {
+  if (failed_) return;
+  ++offered_;
+  dropped_total_ += report.dropped_before;
+  last_report_ = report;  // headers and shared pointers only
+  const double now_ms = run_clock_.ElapsedMs();
+  if (now_ms - last_offer_ms_ < options_.frame_interval_ms) {
+    ++skipped_;
+    return;
+  }
+  last_offer_ms_ = now_ms;
+  Job job{report, dropped_total_, now_ms, skipped_ + dropped_, false};
+  try {
+    if (worker_->PushDropOldest(std::move(job)) == DropOldestPush::kQueuedDroppedOldest) ++dropped_;
+  } catch (const std::exception& e) {  // the viewer failed: the run goes on without it
+    spdlog::error("viewer: {}; the run goes on without the viewer", e.what());
+    failed_ = true;
+  }
+}
+
+void LiveViewer::Finish() {
+  if (failed_) return;
+  Job job;
+  if (last_report_) job.report = *last_report_;
+  job.dropped_total = dropped_total_;
+  job.run_ms = run_clock_.ElapsedMs();
+  job.viewer_dropped = skipped_ + dropped_;
+  job.final = true;
+  worker_->Push(std::move(job));
+  worker_->Drain();
+  worker_->ThrowIfFailed();
+}
+
+void LiveViewer::Close() {
+  if (worker_) worker_->Close();
+  if (server_) server_->Stop();
+  hub_.Close();
+}
+
+ViewerStats LiveViewer::stats() const {
+  ViewerStats s;
+  s.offered = offered_;
+  s.skipped = skipped_;
+  s.dropped = dropped_;
+  s.encoded = encoded_;
+  s.maps = maps_;
+  return s;
+}
+
+void LiveViewer::Handle(Job& job) {
+  RunCounters counters;
+  counters.frames = static_cast<long>(job.report.index) + 1;
+  counters.dropped = job.dropped_total;
+  counters.keyframes = system_ != nullptr ? system_->num_keyframes() : 0;
+  counters.map_points = system_ != nullptr ? system_->num_map_points() : 0;
+  counters.fps = job.run_ms > 0 ? 1000.0 * static_cast<double>(counters.frames) / job.run_ms : 0;
+  counters.viewer_dropped = job.viewer_dropped;
+  const bool has_frame = job.report.features != nullptr || !job.report.bgr.empty();
+  if (has_frame) {
+    trail_.Add(job.report);
+    hub_.Publish("frame", EncodeFrameEvent(job.report, counters, options_));
+    ++encoded_;
+  }
+  if (job.final || !map_published_ || map_clock_.ElapsedMs() >= options_.map_interval_ms) PublishMap(job.final);
+  if (job.final) {
+    JsonText status;
+    status.BeginObject().Bool("finished", true).Integer("frames", has_frame ? counters.frames : 0).EndObject();
+    hub_.Publish("status", status.Take());
+  }
+}
+
+void LiveViewer::PublishMap(bool finished) {
+  MapView view = system_ != nullptr ? ReadMapView(*system_, dense_, options_) : MapView();
+  view.dynamic_points = trail_.Points();
+  view.finished = finished;
+  DecimateMapView(options_, &view);
+  hub_.Publish("map", EncodeMapEvent(view));
+  ++maps_;
+  map_published_ = true;
+  map_clock_.Restart();
+}
+
+}  // namespace esdslam
