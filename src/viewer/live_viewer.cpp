@@ -71,6 +71,8 @@ ViewerStats LiveViewer::stats() const {
   s.dropped = dropped_;
   s.encoded = encoded_;
   s.maps = maps_;
+  s.frame_cpu_ms = frame_cpu_ms_;
+  s.map_cpu_ms = map_cpu_ms_;
   return s;
 }
 
@@ -84,9 +86,11 @@ void LiveViewer::Handle(Job& job) {
   counters.viewer_dropped = job.viewer_dropped;
   const bool has_frame = job.report.features != nullptr || !job.report.bgr.empty();
   if (has_frame) {
+    const ThreadCpuStopwatch cpu;
     trail_.Add(job.report);
     hub_.Publish("frame", EncodeFrameEvent(job.report, counters, options_));
     ++encoded_;
+    frame_cpu_ms_ = frame_cpu_ms_ + cpu.ElapsedMs();  // this thread is the only writer
   }
   if (job.final || !map_published_ || map_clock_.ElapsedMs() >= options_.map_interval_ms) PublishMap(job.final);
   if (job.final) {
@@ -97,6 +101,7 @@ void LiveViewer::Handle(Job& job) {
 }
 
 void LiveViewer::PublishMap(bool finished) {
+  const ThreadCpuStopwatch cpu;
   MapView view = system_ != nullptr ? ReadMapView(*system_, dense_, options_) : MapView();
   view.dynamic_points = trail_.Points();
   view.finished = finished;
@@ -105,6 +110,7 @@ void LiveViewer::PublishMap(bool finished) {
   ++maps_;
   map_published_ = true;
   map_clock_.Restart();
+  map_cpu_ms_ = map_cpu_ms_ + cpu.ElapsedMs();
 }
 
 }  // namespace esdslam

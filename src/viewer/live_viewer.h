@@ -43,6 +43,8 @@ struct ViewerStats {
   long dropped = 0;  // passed on, then replaced in the full queue by a newer one
   long encoded = 0;  // frame events published
   long maps = 0;     // map events published
+  double frame_cpu_ms = 0;  // CPU time of the viewer thread encoding frame events
+  double map_cpu_ms = 0;    // CPU time of the viewer thread reading and encoding the map
 };
 
 class LiveViewer {
@@ -96,6 +98,7 @@ class LiveViewer {
   Stopwatch map_clock_;
   bool map_published_ = false;
   std::atomic<long> encoded_{0}, maps_{0};
+  std::atomic<double> frame_cpu_ms_{0}, map_cpu_ms_{0};
   std::unique_ptr<Worker<Job>> worker_;  // last: closed (joined) before the rest goes
 };
 

@@ -20,7 +20,7 @@ struct ViewerOptions {
   int max_dynamic_points = 5000; // removed (dynamic) keypoints kept, back-projected, newest win
   int max_dense_points = 30000;  // dense-map points per map update (with --dense)
   int max_trajectory = 5000;     // camera positions per map update
-  double frame_interval_ms = 66;  // at most one frame event per this many ms (about 15 Hz)
+  double frame_interval_ms = 100;  // at most one frame event per this many ms (10 Hz)
   double map_interval_ms = 1000;  // at most one map update per this many ms
   std::size_t queue_capacity = 1;  // frames waiting for the viewer thread; a newer one replaces the oldest
 
