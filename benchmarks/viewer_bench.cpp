@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "common/timer.h"
@@ -178,6 +179,7 @@ int Main(int argc, char** argv) {
 }  // namespace esdslam
 
 int main(int argc, char** argv) {
+  spdlog::set_default_logger(spdlog::stderr_color_mt("viewer_bench"));  // logs to stderr, results to stdout
   try {
     return esdslam::Main(argc, argv);
   } catch (const std::exception& e) {

@@ -102,8 +102,9 @@ void LiveViewer::Handle(Job& job) {
 
 void LiveViewer::PublishMap(bool finished) {
   const ThreadCpuStopwatch cpu;
-  MapView view = system_ != nullptr ? ReadMapView(*system_, dense_, options_) : MapView();
+  MapView view = system_ != nullptr ? ReadMapView(*system_, options_) : MapView();
   view.dynamic_points = trail_.Points();
+  view.dense = DenseCloud(finished);
   view.finished = finished;
   DecimateMapView(options_, &view);
   hub_.Publish("map", EncodeMapEvent(view));
@@ -111,6 +112,20 @@ void LiveViewer::PublishMap(bool finished) {
   map_published_ = true;
   map_clock_.Restart();
   map_cpu_ms_ = map_cpu_ms_ + cpu.ElapsedMs();
+}
+
+const PointCloud& LiveViewer::DenseCloud(bool finished) {
+  if (dense_ == nullptr) return dense_cloud_;
+  const long keyframes = static_cast<long>(dense_->stats().keyframes);
+  const bool due = dense_keyframes_ < 0 || finished || dense_clock_.ElapsedMs() >= options_.dense_interval_ms;
+  if (!due || (keyframes == dense_keyframes_ && !finished)) return dense_cloud_;
+  MapView thin;
+  thin.dense = dense_->CurrentCloud();
+  DecimateMapView(options_, &thin);
+  dense_cloud_ = std::move(thin.dense);
+  dense_keyframes_ = keyframes;
+  dense_clock_.Restart();
+  return dense_cloud_;
 }
 
 }  // namespace esdslam

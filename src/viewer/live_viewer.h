@@ -80,6 +80,8 @@ class LiveViewer {
   };
   void Handle(Job& job);
   void PublishMap(bool finished);
+  // The dense cloud, rebuilt when due (dense_interval_ms, new dense keyframes, or the end).
+  const PointCloud& DenseCloud(bool finished);
 
   const ViewerOptions options_;
   SlamSystem* system_;
@@ -97,6 +99,9 @@ class LiveViewer {
   DynamicPointTrail trail_;
   Stopwatch map_clock_;
   bool map_published_ = false;
+  Stopwatch dense_clock_;
+  long dense_keyframes_ = -1;  // dense keyframes in dense_cloud_; -1 = not built yet
+  PointCloud dense_cloud_;     // decimated
   std::atomic<long> encoded_{0}, maps_{0};
   std::atomic<double> frame_cpu_ms_{0}, map_cpu_ms_{0};
   std::unique_ptr<Worker<Job>> worker_;  // last: closed (joined) before the rest goes

@@ -54,7 +54,7 @@ std::vector<Eigen::Vector3f> TrajectoryPositions(const std::vector<StampedPose>&
   return positions;
 }
 
-MapView ReadMapView(SlamSystem& system, const DenseMapper* dense, const ViewerOptions& options) {
+MapView ReadMapView(SlamSystem& system, const ViewerOptions& options) {
   MapView view;
   const std::vector<StampedPose> trajectory = system.Trajectory();
   view.trajectory_count = static_cast<long>(trajectory.size());
@@ -66,7 +66,6 @@ MapView ReadMapView(SlamSystem& system, const DenseMapper* dense, const ViewerOp
   for (const std::size_t i : EvenSample(points.size(), static_cast<std::size_t>(options.max_map_points))) {
     if (!points[i]->is_bad()) view.static_points.push_back(points[i]->position().cast<float>());
   }
-  if (dense != nullptr) view.dense = dense->CurrentCloud();
   DecimateMapView(options, &view);
   return view;
 }

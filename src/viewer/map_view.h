@@ -46,9 +46,9 @@ class DynamicPointTrail {
 
 // Positions of `poses`, thinned (EvenSample) to max, the last one always included.
 std::vector<Eigen::Vector3f> TrajectoryPositions(const std::vector<StampedPose>& poses, std::size_t max);
-// The system's map now (takes Map::update_mutex through SlamSystem, then per-point locks);
-// dense may be null. Thread-safe against tracking, local mapping and loop closing.
-MapView ReadMapView(SlamSystem& system, const DenseMapper* dense, const ViewerOptions& options);
+// The system's map now (takes Map::update_mutex through SlamSystem, then per-point locks),
+// without the dense cloud. Thread-safe against tracking, local mapping and loop closing.
+MapView ReadMapView(SlamSystem& system, const ViewerOptions& options);
 // Thins the clouds and lists to the options' maxima.
 void DecimateMapView(const ViewerOptions& options, MapView* view);
 // The map event's JSON (one line); positions in mm-rounded metres.

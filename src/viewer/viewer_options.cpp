@@ -28,6 +28,7 @@ void ViewerOptions::Check() const {
   CheckOption("max trajectory", max_trajectory, 2, 100000);
   CheckOption("frame interval (ms)", frame_interval_ms, 0.0, 10000.0);
   CheckOption("map interval (ms)", map_interval_ms, 10.0, 60000.0);
+  CheckOption("dense interval (ms)", dense_interval_ms, 100.0, 600000.0);
   CheckOption("queue capacity", queue_capacity, std::size_t{1}, std::size_t{16});
 }
 

@@ -22,6 +22,9 @@ struct ViewerOptions {
   int max_trajectory = 5000;     // camera positions per map update
   double frame_interval_ms = 100;  // at most one frame event per this many ms (10 Hz)
   double map_interval_ms = 1000;  // at most one map update per this many ms
+  // The dense cloud is rebuilt (DenseMapper::CurrentCloud: outlier filter over the whole map,
+  // 0.1-1 s of CPU) at most this often, and only when the dense map has new keyframes.
+  double dense_interval_ms = 10000;
   std::size_t queue_capacity = 1;  // frames waiting for the viewer thread; a newer one replaces the oldest
 
   // Throws Error naming the option of a value outside its range.

@@ -1,5 +1,6 @@
 // The live viewer in a real browser (label slow): a short synthetic run with --viewer (any free
-// port) and --viewer-keep, the page loaded by headless Chromium (Debian's `chromium`,
+// port) and --viewer-keep (25 frames: the last ones still have keypoints removed as dynamic),
+// the page loaded by headless Chromium (Debian's `chromium`,
 // tools/install_deps.sh; WebGL through its software renderer SwiftShader) while the run's
 // process serves it. The page loads (its title names the frame it drew), the 3-D canvas is not
 // blank, and the numbers shown are the run's: frames = timing.csv rows, poses = trajectory.txt
@@ -133,7 +134,7 @@ TEST(ViewerBrowser, LiveViewerOfASyntheticRunShowsTheRunsNumbers) {
 
   {
     Server live(bin + " run --settings " + seq + "/settings.yaml --sequence " + seq + " --out " + run +
-                    " --single-thread --dense --viewer 0 --viewer-keep",
+                    " --single-thread --dense --max-frames 25 --viewer 0 --viewer-keep",
                 "until Ctrl-C");
     ASSERT_TRUE(live.ready()) << live.output();
     ASSERT_GT(live.Port(), 0) << live.output();

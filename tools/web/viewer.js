@@ -67,7 +67,7 @@ function fitView(flat) {
   const centre = box.getCenter(new THREE.Vector3());
   const radius = Math.max(0.5, box.getSize(new THREE.Vector3()).length() / 2);
   controls.target.copy(centre);
-  camera.position.copy(centre).add(new THREE.Vector3(0, -1.2 * radius, -1.8 * radius));
+  camera.position.copy(centre).add(new THREE.Vector3(0, -0.8 * radius, -1.3 * radius));
   controls.update();
 }
 
