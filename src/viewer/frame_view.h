@@ -13,6 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include "system/frame_report.h"
+#include "viewer/viewer_json.h"
 #include "viewer/viewer_options.h"
 
 namespace esdslam {
@@ -41,8 +42,8 @@ std::vector<ViewerKeypoint> ViewerKeypoints(const FeatureSet& features, double s
 // The frame event's JSON (one line): index, timestamp, state, counters, pose, every column of the
 // table in "ms" (stages), keypoint counts, the JPEG (base64) and the keypoints.
 std::string EncodeFrameEvent(const FrameReport& report, const RunCounters& counters, const ViewerOptions& options);
-// The per-stage part alone, from the values of every column (FrameColumns() order), also used
-// by the replay from timing.csv: {"stages": {name: ms...}, "state": text}.
-void AppendColumnValues(const std::vector<double>& values, class JsonText* json);
+// The column part alone, from the values of every column (FrameColumns() order): "stages"
+// (the columns in ms, by name), "columns" (the other numeric ones) and each text column (state).
+void AppendColumnValues(const std::vector<double>& values, JsonText* json);
 
 }  // namespace esdslam

@@ -1,5 +1,7 @@
 #include "viewer/viewer_server.h"
 
+#include <sys/socket.h>
+
 #include <chrono>
 #include <filesystem>
 
@@ -14,6 +16,8 @@ namespace {
 // A stream with nothing new sends an SSE comment this often (ms), so that the browser and any
 // proxy keep the connection, and a closed browser is noticed by the failed write.
 constexpr std::chrono::milliseconds kKeepAlive(15000);
+// HTTP threads: each open event stream holds one; a page needs one more for its files.
+constexpr std::size_t kHttpThreads = 4;
 
 }  // namespace
 
@@ -27,6 +31,12 @@ ViewerServer::ViewerServer(const ViewerOptions& options, EventHub* hub)
     spdlog::warn("viewer: three.js is not installed in {}: run `npm ci --prefix {}` (tools/install_deps.sh does)",
                  web.string(), web.string());
   AddRoutes();
+  // SO_REUSEADDR only: cpp-httplib's default, SO_REUSEPORT, would let a second program bind the
+  // same port (and share its connections) instead of failing with "in use".
+  server_->set_socket_options([](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+  });
   if (options_.port == 0) {
     port_ = server_->bind_to_any_port(options_.address);
   } else {
@@ -35,7 +45,26 @@ ViewerServer::ViewerServer(const ViewerOptions& options, EventHub* hub)
   if (port_ <= 0)
     throw Error("viewer: cannot listen on " + options_.address + ":" + std::to_string(options_.port) +
                 " (in use? give another port)");
-  listener_ = std::thread([this] { server_->listen_after_bind(); });
+  // cpp-httplib makes its task queue inside listen_after_bind, after it marked itself running
+  // and before its accept loop: from then on stop() takes effect.
+  server_->new_task_queue = [this] {
+    MarkStarted();
+    return new httplib::ThreadPool(kHttpThreads);
+  };
+  listener_ = std::thread([this] {
+    if (!server_->listen_after_bind()) spdlog::error("viewer: the HTTP server stopped with an error");
+    MarkStarted();  // in case it failed before making its queue
+  });
+  std::unique_lock<std::mutex> lock(started_mutex_);
+  started_cv_.wait(lock, [this] { return started_; });
+}
+
+void ViewerServer::MarkStarted() {
+  {
+    std::lock_guard<std::mutex> lock(started_mutex_);
+    started_ = true;
+  }
+  started_cv_.notify_all();
 }
 
 ViewerServer::~ViewerServer() { Stop(); }

@@ -9,7 +9,9 @@
 // variable (EventHub::WaitNewer, woken by a new event or by Close); it writes to its socket with
 // no lock held. Stop() closes the hub first, so every waiting stream ends, then the server.
 
+#include <condition_variable>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -39,11 +41,17 @@ class ViewerServer {
 
  private:
   void AddRoutes();
+  void MarkStarted();
 
   const ViewerOptions options_;
   EventHub* hub_;
   std::unique_ptr<httplib::Server> server_;
   int port_ = 0;
+  // Set by the listening thread once it serves (or gave up): Stop() before that would be lost
+  // (cpp-httplib ignores a stop before its accept loop runs), so the constructor waits for it.
+  std::mutex started_mutex_;
+  std::condition_variable started_cv_;
+  bool started_ = false;
   std::thread listener_;
 };
 

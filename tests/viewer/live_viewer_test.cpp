@@ -77,6 +77,21 @@ TEST(LiveViewer, ServesThePageTheSnapshotAndServerSentEvents) {
   viewer.Close();
 }
 
+TEST(ViewerServer, StopsRightAfterItStartedAndRefusesATakenPort) {
+  ViewerOptions options = FastOptions();
+  for (int i = 0; i < 5; ++i) {  // a stop right after the start is not lost (no hang)
+    EventHub hub;
+    ViewerServer server(options, &hub);
+    EXPECT_GT(server.port(), 0);
+    server.Stop();
+    EXPECT_TRUE(hub.closed());
+  }
+  EventHub hub, other_hub;
+  ViewerServer server(options, &hub);
+  options.port = server.port();
+  EXPECT_THROW(ViewerServer(options, &other_hub), Error);
+}
+
 TEST(ViewerOptions, CheckBoundsEveryValue) {
   ViewerOptions options;
   EXPECT_NO_THROW(options.Check());
