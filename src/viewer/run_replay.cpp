@@ -45,7 +45,57 @@ void AppendDebugPicture(const RunFiles& files, const ViewerOptions& options, Jso
   json->String("jpeg", Base64(jpeg));
 }
 
+void AppendTimelineRows(const TimingTable& timing, const std::vector<std::size_t>& rows, JsonText* json) {
+  json->BeginArray("rows");
+  for (const std::size_t r : rows) json->Element(static_cast<double>(r), 0);
+  json->EndArray();
+  if (timing.Has("timestamp")) {
+    const std::vector<double> t = timing.Numbers("timestamp");
+    json->BeginArray("timestamps");
+    for (const std::size_t r : rows) json->Element(t[r], 6);
+    json->EndArray();
+  }
+  json->Key("text").BeginObject();  // text columns (state), by name
+  for (const FrameColumn& column : FrameColumns()) {
+    if (column.text == nullptr || !timing.Has(column.name)) continue;
+    const std::vector<std::string> text = timing.Text(column.name);
+    json->BeginArray(column.name);
+    for (const std::size_t r : rows) json->String(nullptr, text[r]);
+    json->EndArray();
+  }
+  json->EndObject();
+  json->Key("stages").BeginObject();  // the columns in ms, by name
+  for (const FrameColumn& column : FrameColumns()) {
+    if (std::string(column.unit) != "ms" || !timing.Has(column.name)) continue;
+    const std::vector<double> values = timing.Numbers(column.name);
+    json->BeginArray(column.name);
+    for (const std::size_t r : rows) json->Element(values[r], 2);
+    json->EndArray();
+  }
+  json->EndObject();
+}
+
 }  // namespace
+
+std::string EncodeReplayTimeline(const RunFiles& files, const ViewerOptions& options) {
+  const std::size_t max = static_cast<std::size_t>(options.max_trajectory);
+  JsonText json;
+  json.BeginObject();
+  AppendTimelineRows(files.timing, EvenSample(files.timing.rows.size(), max), &json);
+  std::vector<std::size_t> poses = EvenSample(files.trajectory.size(), max);
+  if (!poses.empty()) poses.back() = files.trajectory.size() - 1;
+  json.BeginArray("pose_times");
+  for (const std::size_t i : poses) json.Element(files.trajectory[i].timestamp, 6);
+  json.EndArray();
+  json.BeginArray("positions");  // flat x, y, z (m)
+  for (const std::size_t i : poses) {
+    const Vec3& p = files.trajectory[i].world_from_cam.translation();
+    json.Element(p.x()).Element(p.y()).Element(p.z());
+  }
+  json.EndArray();
+  json.EndObject();
+  return json.Take();
+}
 
 std::string EncodeReplayFrame(const RunFiles& files, const ViewerOptions& options) {
   const long frames = static_cast<long>(files.timing.rows.size());
@@ -78,6 +128,7 @@ RunFiles PublishRun(const ReplayInputs& inputs, const ViewerOptions& options, Ev
   DecimateMapView(options, &view);
   hub->Publish("frame", EncodeReplayFrame(files, options));
   hub->Publish("map", EncodeMapEvent(view));
+  hub->Publish("timeline", EncodeReplayTimeline(files, options));
   JsonText status;
   status.BeginObject().Bool("finished", true).Bool("replay", true).Integer("frames", static_cast<long long>(files.timing.rows.size())).EndObject();
   hub->Publish("status", status.Take());

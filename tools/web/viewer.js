@@ -2,6 +2,8 @@
 // frames x right, y down, z forward) and a panel with the current frame. Data arrive as
 // server-sent events from esdslam (/events: "frame", "map", "status"); /snapshot gives the
 // newest of each at load. ?once=1 loads the snapshot only (the headless browser test).
+// `esdslam view` adds a "timeline" event (every frame's row of timing.csv, the poses with their
+// times): a slider then steps through the run (stage times of that frame, trajectory up to it).
 // When a frame has been drawn the title becomes "ESD-SLAM viewer: frame N" (tests read it).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -107,6 +109,7 @@ function drawFrame(frame) {
     }
     document.title = 'ESD-SLAM viewer: frame ' + frame.frames;
   };
+  document.getElementById('frame-box').hidden = !frame.jpeg;  // a replay without debug pictures has none
   if (!frame.jpeg) { drawKeypoints(); return; }
   const image = new Image();
   image.onload = () => {
@@ -132,9 +135,35 @@ function onStatus(status) {
   document.getElementById('connection').textContent = status.finished ? 'run finished' : 'running';
 }
 
-const handlers = { frame: onFrame, map: onMap, status: onStatus };
+// Frame k of the timeline: its state and stage times, the trajectory up to its time (yellow).
+function showTimelineFrame(timeline, k) {
+  const t = timeline.timestamps ? timeline.timestamps[k] : Infinity;
+  setMetric('replay', 'replay_frame', (timeline.rows[k] + 1) + ' / ' + (timeline.rows[timeline.rows.length - 1] + 1));
+  if (timeline.timestamps) setMetric('replay', 'replay_time', t.toFixed(3));
+  for (const [name, values] of Object.entries(timeline.text || {})) setMetric('replay', name, values[k]);
+  for (const [name, values] of Object.entries(timeline.stages || {}))
+    setMetric('stages', name, values[k] === null ? '-' : values[k].toFixed(2));
+  let n = 0;
+  while (n < timeline.pose_times.length && timeline.pose_times[n] <= t + 1e-6) ++n;
+  const trail = timeline.positions.slice(0, 3 * n);
+  replaceLayer('replay_trail', trail.length >= 6 ? lineObject(trail, 0xffd23d) : null);
+  replaceLayer('replay_camera', trail.length >= 3 ? pointsObject(trail.slice(-3), 0xffd23d, 9) : null);
+}
+
+function onTimeline(timeline) {
+  if (!timeline.rows.length) return;
+  const box = document.getElementById('timeline');
+  const scrub = document.getElementById('scrub');
+  box.hidden = false;
+  scrub.max = String(timeline.rows.length - 1);
+  scrub.value = scrub.max;
+  scrub.oninput = () => showTimelineFrame(timeline, Number(scrub.value));
+  showTimelineFrame(timeline, timeline.rows.length - 1);
+}
+
+const handlers = { frame: onFrame, map: onMap, status: onStatus, timeline: onTimeline };
 function apply(events) {
-  for (const name of ['map', 'frame', 'status']) if (events[name]) handlers[name](events[name]);
+  for (const name of ['map', 'frame', 'status', 'timeline']) if (events[name]) handlers[name](events[name]);
 }
 
 function resize() {
