@@ -8,7 +8,8 @@ namespace esdslam {
 
 LiveViewer::LiveViewer(const ViewerOptions& options, SlamSystem* system, const DenseMapper* dense, bool serve)
     : options_(options), system_(system), dense_(dense),
-      trail_(static_cast<std::size_t>(options.max_dynamic_points)) {
+      trail_(static_cast<std::size_t>(options.max_dynamic_points)),
+      culled_trail_(static_cast<std::size_t>(options.max_dynamic_points)) {
   options_.Check();
   if (serve) server_ = std::make_unique<ViewerServer>(options_, &hub_);
   worker_ = std::make_unique<Worker<Job>>("viewer", WorkerMode::kThread, options_.queue_capacity,
@@ -29,6 +30,13 @@ void LiveViewer::Offer(const FrameReport& report) {
   if (failed_) return;
   ++offered_;
   dropped_total_ += report.dropped_before;
+  const std::vector<Vec3>& culled = report.track.geometry.culled_positions;
+  if (!culled.empty()) {
+    std::lock_guard<std::mutex> lock(culled_mutex_);
+    for (const Vec3& p : culled) culled_pending_.push_back(p.cast<float>());
+    const std::size_t cap = static_cast<std::size_t>(options_.max_dynamic_points);
+    if (culled_pending_.size() > cap) culled_pending_.erase(culled_pending_.begin(), culled_pending_.end() - cap);
+  }
   last_report_ = report;  // headers and shared pointers only
   const double now_ms = run_clock_.ElapsedMs();
   if (now_ms - last_offer_ms_ < options_.frame_interval_ms) {
@@ -104,6 +112,15 @@ void LiveViewer::PublishMap(bool finished) {
   const ThreadCpuStopwatch cpu;
   MapView view = system_ != nullptr ? ReadMapView(*system_, options_) : MapView();
   view.dynamic_points = trail_.Points();
+  {
+    std::vector<Eigen::Vector3f> culled;
+    {
+      std::lock_guard<std::mutex> lock(culled_mutex_);
+      culled.swap(culled_pending_);
+    }
+    culled_trail_.Add(culled);
+  }
+  view.culled_points = culled_trail_.Points();
   view.dense = DenseCloud(finished);
   view.finished = finished;
   DecimateMapView(options_, &view);

@@ -16,11 +16,14 @@
 // Threads and shared data: Offer and Finish are for the tracking thread (the owner); the
 // viewer thread reads the SLAM system (Trajectory, KeyFrameTrajectory, map points: their own
 // locks, so it may wait for a tracking step, never the other way round) and the dense mapper's
-// CurrentCloud; it owns the counters of what it encoded. The queue's and hub's mutexes are leaves.
+// CurrentCloud; it owns the counters of what it encoded. The queue's and hub's mutexes and
+// culled_mutex_ (the culled map points handed over from every frame) are leaves.
 // The system and the dense mapper must outlive the viewer (Close joins the thread).
 
 #include <atomic>
 #include <memory>
+#include <mutex>
+#include <vector>
 #include <optional>
 #include <string>
 
@@ -95,8 +98,13 @@ class LiveViewer {
   long dropped_total_ = 0;
   bool failed_ = false;  // the viewer thread failed: Offer and Finish do nothing
   std::atomic<long> offered_{0}, skipped_{0}, dropped_{0};
+  // Map points culled as moved, of every frame (skipped and dropped ones too): appended by Offer,
+  // taken by the viewer thread. culled_mutex_ is a leaf. At most max_dynamic_points wait.
+  std::mutex culled_mutex_;
+  std::vector<Eigen::Vector3f> culled_pending_;
   // Viewer thread only (read by stats() after Finish/Close, or as atomics).
   DynamicPointTrail trail_;
+  DynamicPointTrail culled_trail_;
   Stopwatch map_clock_;
   bool map_published_ = false;
   Stopwatch dense_clock_;

@@ -45,6 +45,13 @@ void DynamicPointTrail::Add(const FrameReport& report) {
   }
 }
 
+void DynamicPointTrail::Add(const std::vector<Eigen::Vector3f>& points) {
+  for (const Eigen::Vector3f& p : points) {
+    points_.push_back(p);
+    if (points_.size() > capacity_) points_.pop_front();
+  }
+}
+
 std::vector<Eigen::Vector3f> TrajectoryPositions(const std::vector<StampedPose>& poses, std::size_t max) {
   std::vector<Eigen::Vector3f> positions;
   std::vector<std::size_t> picked = EvenSample(poses.size(), max);
@@ -74,6 +81,7 @@ void DecimateMapView(const ViewerOptions& options, MapView* view) {
   view->keyframes = Thinned(view->keyframes, static_cast<std::size_t>(options.max_trajectory));
   view->static_points = Thinned(view->static_points, static_cast<std::size_t>(options.max_map_points));
   view->dynamic_points = Thinned(view->dynamic_points, static_cast<std::size_t>(options.max_dynamic_points));
+  view->culled_points = Thinned(view->culled_points, static_cast<std::size_t>(options.max_dynamic_points));
   const std::size_t max_dense = static_cast<std::size_t>(options.max_dense_points);
   if (view->dense.size() > max_dense) {
     PointCloud thin;
@@ -93,6 +101,7 @@ std::string EncodeMapEvent(const MapView& view) {
   AppendKeyframes(view.keyframes, &json);
   AppendPoints("static_points", view.static_points, &json);
   AppendPoints("dynamic_points", view.dynamic_points, &json);
+  AppendPoints("culled_points", view.culled_points, &json);
   AppendPoints("dense_points", view.dense.points, &json);
   json.BeginArray("dense_colors");  // flat r, g, b (0..255)
   for (const Rgb8& c : view.dense.colors) json.Element(c.r, 0).Element(c.g, 0).Element(c.b, 0);

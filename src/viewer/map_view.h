@@ -24,6 +24,7 @@ struct MapView {
   std::vector<StampedPose> keyframes;           // world_from_cam
   std::vector<Eigen::Vector3f> static_points;   // live map points
   std::vector<Eigen::Vector3f> dynamic_points;  // keypoints removed as dynamic, back-projected
+  std::vector<Eigen::Vector3f> culled_points;   // map points the geometry check culled as moved
   PointCloud dense;                             // dense map (empty without --dense)
   long keyframe_count = 0;                      // before decimation
   long map_point_count = 0;
@@ -37,6 +38,7 @@ class DynamicPointTrail {
   explicit DynamicPointTrail(std::size_t capacity) : capacity_(capacity) {}
   // Adds the frame's keypoints flagged dynamic that have depth, at the frame's pose.
   void Add(const FrameReport& report);
+  void Add(const std::vector<Eigen::Vector3f>& points);
   std::vector<Eigen::Vector3f> Points() const { return {points_.begin(), points_.end()}; }
 
  private:

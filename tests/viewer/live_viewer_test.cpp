@@ -77,6 +77,23 @@ TEST(LiveViewer, ServesThePageTheSnapshotAndServerSentEvents) {
   viewer.Close();
 }
 
+TEST(LiveViewer, MapPointsCulledAsMovedReachTheMapEvenFromSkippedFrames) {
+  ViewerOptions options = FastOptions();
+  options.frame_interval_ms = 10000;  // every frame after the first is skipped
+  LiveViewer viewer(options, nullptr, nullptr, false);
+  for (int i = 0; i < 3; ++i) {
+    FrameReport report = testing::MakeViewerFrame(i);
+    report.track.geometry.culled_positions.push_back(Vec3(1.5 + i, -0.25, 2.0));
+    viewer.Offer(report);
+  }
+  viewer.Finish();
+  std::string map;
+  for (const HubEvent& e : viewer.hub().Latest())
+    if (e.name == "map") map = e.data;
+  EXPECT_NE(map.find("\"culled_points\":[1.500,-0.250,2.000,2.500,-0.250,2.000,3.500,-0.250,2.000]"), std::string::npos)
+      << map.substr(0, 300);
+}
+
 TEST(ViewerServer, StopsRightAfterItStartedAndRefusesATakenPort) {
   ViewerOptions options = FastOptions();
   for (int i = 0; i < 5; ++i) {  // a stop right after the start is not lost (no hang)

@@ -77,6 +77,7 @@ function onMap(map) {
   replaceLayer('dense', map.dense_points.length ? pointsObject(map.dense_points, 0xffffff, 2, map.dense_colors) : null);
   replaceLayer('static', pointsObject(map.static_points, 0xe6e6e6, 2));
   replaceLayer('dynamic', pointsObject(map.dynamic_points, 0xff4040, 3));
+  replaceLayer('culled', pointsObject(map.culled_points || [], 0xff40ff, 5));
   replaceLayer('trajectory', lineObject(map.trajectory, 0x3ddc5a));
   replaceLayer('keyframes', segmentsObject(frustumSegments(map.keyframes, 0.05), 0x5a8cff));
   fitView(map.static_points.length ? map.static_points.concat(map.trajectory) : map.trajectory.concat(map.dense_points));
