@@ -5,7 +5,8 @@
 // (system/live_outputs.h); SIGINT/SIGTERM stop the run after the current frame with every output
 // written (stop_signals.h). The settings file and
 // the flags are resolved here, once, into the run's configuration (system/run_config.h); the
-// frames go through the pipeline by the run loop (system/run_loop.h).
+// frames go through the pipeline by the run loop (system/run_loop.h). --viewer [PORT] serves the
+// live viewer (viewer/live_viewer.h), fed from the run loop's frame callback.
 #include <unistd.h>
 
 #include <algorithm>
@@ -31,6 +32,7 @@
 #include "system/run_loop.h"
 #include "system/run_outputs.h"
 #include "system/run_settings.h"
+#include "viewer/live_viewer.h"
 
 namespace esdslam::cli {
 namespace {
@@ -41,6 +43,10 @@ struct RunArgs {
   RunFlags flags;
   bool report = false;  // --report: OUT/report.html at the end (report/run_report.h)
   CameraArgs camera;
+  bool viewer = false;       // --viewer given
+  std::string viewer_port;   // --viewer's value; empty = the default port
+  ViewerOptions viewer_options;
+  bool viewer_keep = false;  // --viewer-keep: serve the final state after the run until a signal
 };
 
 // The progress line on stderr: redrawn in place every 10 frames on a terminal; into a file or a
@@ -120,6 +126,35 @@ int Conclude(Pipeline& pipeline, LiveOutputs& live, const FrameLog& log, const I
   return end.failed || !reason.empty() ? 1 : 0;
 }
 
+// The final poses and map to the page; with keep, serves them until SIGINT/SIGTERM.
+void FinishViewer(LiveViewer& viewer, bool keep) {
+  try {
+    viewer.Finish();
+  } catch (const std::exception& e) {
+    spdlog::error("run: viewer: {}", e.what());
+    return;
+  }
+  if (!keep) return;
+  spdlog::info("run: finished; the viewer serves the result at {} until Ctrl-C", viewer.url());
+  WaitForStopSignal();
+}
+
+// --viewer [PORT] and its options; returns --viewer (given when its count is > 0).
+CLI::Option* AddViewerOptions(CLI::App& app, RunArgs& args) {
+  CLI::Option* viewer = app.add_option("--viewer", args.viewer_port,
+                                       "Serve the live viewer on http://127.0.0.1:PORT/ (default 8080; 0 = any "
+                                       "free port, logged)")
+                            ->expected(0, 1)
+                            ->check(CLI::Range(0, 65535));
+  app.add_option("--viewer-address", args.viewer_options.address, "With --viewer: the address to listen on")
+      ->capture_default_str()
+      ->needs(viewer);
+  app.add_flag("--viewer-keep", args.viewer_keep,
+               "With --viewer: after the run, keep serving its final state until Ctrl-C")
+      ->needs(viewer);
+  return viewer;
+}
+
 int Run(RunArgs args) {
   RunSettings settings = LoadRunSettings(args.settings_path);
   args.flags.mode = ParseDynamicMode(args.mode);
@@ -135,6 +170,8 @@ int Run(RunArgs args) {
   LiveOutputs live(config.run.out_dir);
   const std::string& debug_dir = config.run.debug_frames_dir;
   if (!debug_dir.empty()) std::filesystem::create_directories(debug_dir);
+  std::unique_ptr<LiveViewer> viewer;  // after the pipeline: closed before the system goes
+  if (args.viewer) viewer = std::make_unique<LiveViewer>(args.viewer_options, &pipeline.system(), pipeline.dense());
   FrameLog log;
   InitDiagnosis init;
   Progress progress(n);
@@ -151,6 +188,7 @@ int Run(RunArgs args) {
           if (!debug_dir.empty()) WriteDebugFrame(debug_dir, report);
           done += 1 + static_cast<std::size_t>(report.dropped_before);
           progress.Show(report, done, pipeline.system(), total.ElapsedMs());
+          if (viewer) viewer->Offer(report);  // copies headers only; encoded on the viewer thread
         },
         [] { return StopSignal() != 0; });
     if (stopped) end.stop_signal = StopSignal();
@@ -160,7 +198,9 @@ int Run(RunArgs args) {
     end.failed = true;
   }
   progress.Break();
-  return Conclude(pipeline, live, log, init, input, total.ElapsedMs(), end, args.report);
+  const int status = Conclude(pipeline, live, log, init, input, total.ElapsedMs(), end, args.report);
+  if (viewer) FinishViewer(*viewer, args.viewer_keep && status == 0);
+  return status;
 }
 
 // --camera and its options; returns --camera (given when its count is > 0).
@@ -234,8 +274,11 @@ RunFn Setup(CLI::App& app) {
   app.add_flag("--report", args->report,
                "At the end write OUT/report.html (as `esdslam report`; ground truth from the sequence's "
                "groundtruth.txt)");
-  return [args, camera] {
+  CLI::Option* viewer = AddViewerOptions(app, *args);
+  return [args, camera, viewer] {
     args->camera.use = camera->count() > 0;
+    args->viewer = viewer->count() > 0;
+    if (!args->viewer_port.empty()) args->viewer_options.port = std::stoi(args->viewer_port);
     return Run(*args);
   };
 }

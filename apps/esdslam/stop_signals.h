@@ -11,5 +11,8 @@ namespace esdslam::cli {
 void InstallStopSignals();
 // 0 while no stop signal came, else the first one's number (SIGINT, SIGTERM).
 int StopSignal();
+// Blocks (a read on a self-pipe the handler writes to, no polling) until the first stop signal
+// (at once if one came already); installs the handler if needed. Returns its number.
+int WaitForStopSignal();
 
 }  // namespace esdslam::cli

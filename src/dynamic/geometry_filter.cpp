@@ -54,7 +54,7 @@ GeometryFilterStats GeometryFilter::Apply(Frame* frame) {
   stats.flagged_keypoints = flagged.keypoints;
   stats.associations_removed = flagged.associations_removed;
   VoteReferencePoints(keyframes, keypoints, result);
-  stats.points_culled = CullMovedPoints(frame);
+  stats.points_culled = CullMovedPoints(frame, &stats.culled_positions);
   stats.check_ms = watch.ElapsedMs();
   stats.check_cpu_ms = cpu.ElapsedMs();
   return stats;
@@ -181,13 +181,14 @@ void GeometryFilter::Evidence(MapPoint* point) {
   evidence_points_[point->id()] = point;
 }
 
-int GeometryFilter::CullMovedPoints(Frame* frame) {
+int GeometryFilter::CullMovedPoints(Frame* frame, std::vector<Vec3>* positions) {
   const std::vector<long> moved = votes_.EndFrame();
   int culled = 0;
   if (options_.cull_after_frames > 0) {
     for (const long id : moved) {
       MapPoint* point = evidence_points_.at(id);
       if (point->is_bad()) continue;
+      positions->push_back(point->position());
       point->SetBad();
       ++culled;
     }

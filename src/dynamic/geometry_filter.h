@@ -59,6 +59,7 @@ struct GeometryFilterStats {
   int flagged_keypoints = 0;  // keypoints marked kDynamicByGeometry
   int associations_removed = 0;
   int points_culled = 0;
+  std::vector<Vec3> culled_positions;  // world positions (m) of the points culled (a viewer shows them)
   cv::Mat mask;               // CV_8U, 255 = moving by geometry; empty when the check did not run
 };
 
@@ -88,7 +89,8 @@ class GeometryFilter {
   Flagged FlagKeypoints(Frame* frame, const cv::Mat& mask);
   void VoteReferencePoints(const std::vector<KeyFrame*>& keyframes, const std::vector<std::vector<int>>& keypoints,
                            const GeometryCheckResult& result);
-  int CullMovedPoints(Frame* frame);  // returns the points culled
+  // Returns the points culled; their world positions are appended to *positions.
+  int CullMovedPoints(Frame* frame, std::vector<Vec3>* positions);
   void Evidence(MapPoint* point);
 
   GeometryFilterOptions options_;
