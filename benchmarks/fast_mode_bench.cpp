@@ -31,7 +31,7 @@
 
 #include "common/timer.h"
 #include "eval/ate.h"
-#include "io/frame_source.h"
+#include "io/memory_frame_source.h"
 #include "io/trajectory_io.h"
 #include "io/tum_sequence.h"
 #include "system/frame_columns.h"
@@ -41,20 +41,6 @@
 namespace esdslam {
 namespace {
 
-// Frames decoded once, handed out as shared images (never written by the pipeline).
-class MemorySource final : public FrameSource {
- public:
-  explicit MemorySource(const std::vector<RgbdFrame>& frames) : frames_(frames) {}
-  std::optional<RgbdFrame> Next() override {
-    if (next_ >= frames_.size()) return std::nullopt;
-    return frames_[next_++];
-  }
-  std::optional<std::size_t> frame_count() const override { return frames_.size(); }
-
- private:
-  const std::vector<RgbdFrame>& frames_;
-  std::size_t next_ = 0;
-};
 
 double ProcessCpuMs() {
   timespec now;
@@ -83,7 +69,7 @@ Measured RunOnce(const BenchInput& input, const RunFlags& flags) {
   Pipeline pipeline(config);
   std::unique_ptr<FrameSource> source;
   if (input.frames.empty()) source = std::make_unique<TumFolderSource>(input.entries, config.settings.core.depth_map_factor);
-  else source = std::make_unique<MemorySource>(input.frames);
+  else source = std::make_unique<MemoryFrameSource>(input.frames);
   std::vector<double> sums(FrameColumns().size(), 0.0);
   Measured m;
   const double cpu_start = ProcessCpuMs();

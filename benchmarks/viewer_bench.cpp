@@ -23,7 +23,7 @@
 #include <spdlog/spdlog.h>
 
 #include "common/timer.h"
-#include "io/frame_source.h"
+#include "io/memory_frame_source.h"
 #include "io/tum_sequence.h"
 #include "system/pipeline.h"
 #include "system/run_config.h"
@@ -44,21 +44,6 @@ struct BenchArgs {
   int pairs = 5;
   int frames = 120;
   std::string mode = "geometry";  // no network: tracking is the bottleneck, the viewer's share is largest
-};
-
-// The sequence's frames, decoded once; every run reads the same images (shared, never written).
-class MemorySource final : public FrameSource {
- public:
-  explicit MemorySource(const std::vector<RgbdFrame>& frames) : frames_(frames) {}
-  std::optional<RgbdFrame> Next() override {
-    if (next_ >= frames_.size()) return std::nullopt;
-    return frames_[next_++];
-  }
-  std::optional<std::size_t> frame_count() const override { return frames_.size(); }
-
- private:
-  const std::vector<RgbdFrame>& frames_;
-  std::size_t next_ = 0;
 };
 
 // Reads the viewer's /events as a browser would, until the viewer closes the stream.
@@ -90,7 +75,7 @@ RunResult RunOnce(const RunConfig& config, const std::vector<RgbdFrame>& frames,
     const int port = std::atoi(url.c_str() + url.rfind(':') + 1);
     browser = std::thread(ReadEvents, port, &bytes);
   }
-  MemorySource source(frames);
+  MemoryFrameSource source(frames);
   RunResult result;
   Stopwatch clock;
   RunFrames(source, pipeline, [&](const FrameReport& report) {

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "common/error.h"
+#include "io/memory_frame_source.h"
 #include "io/tum_sequence.h"
 #include "support/temp_path.h"
 #include "system/dynamic_sequence.h"
@@ -37,26 +38,12 @@ std::vector<RgbdFrame> Frames(const RunConfig& config) {
   return frames;
 }
 
-// A source over frames already in memory.
-class MemorySource final : public FrameSource {
- public:
-  explicit MemorySource(const std::vector<RgbdFrame>& frames) : frames_(frames) {}
-  std::optional<RgbdFrame> Next() override {
-    if (next_ == frames_.size()) return std::nullopt;
-    return frames_[next_++];
-  }
-  std::optional<std::size_t> frame_count() const override { return frames_.size(); }
-
- private:
-  const std::vector<RgbdFrame>& frames_;
-  std::size_t next_ = 0;
-};
 
 TEST(PipelineTest, RunLoopReportsEveryFrameOnce) {
   const RunConfig config = Config();
   const std::vector<RgbdFrame> frames = Frames(config);
   ASSERT_EQ(frames.size(), static_cast<std::size_t>(kFrames));
-  MemorySource source(frames);
+  MemoryFrameSource source(frames);
   Pipeline pipeline(config);
   std::vector<FrameReport> reports;
   const std::string debug_dir = testing::TestTempPath("pipeline_debug");
@@ -89,7 +76,7 @@ TEST(PipelineTest, RunLoopReportsEveryFrameOnce) {
 
 std::vector<FrameReport> RunAll(const RunConfig& config, const std::vector<RgbdFrame>& frames,
                                 std::vector<StampedPose>* trajectory) {
-  MemorySource source(frames);
+  MemoryFrameSource source(frames);
   Pipeline pipeline(config);
   std::vector<FrameReport> reports;
   RunFrames(source, pipeline, [&](const FrameReport& report) { reports.push_back(report); });
@@ -155,7 +142,7 @@ TEST(PipelineTest, TrackWithoutLookAheadGivesTheSameTrajectory) {
   const RunConfig config = Config();
   const std::vector<RgbdFrame> frames = Frames(config);
   Pipeline ahead(config), direct(config);
-  MemorySource source(frames);
+  MemoryFrameSource source(frames);
   RunFrames(source, ahead, [](const FrameReport&) {});
   for (const RgbdFrame& frame : frames) direct.Track(frame);
   ahead.Finish(testing::TestTempPath("pipeline_ahead"));
