@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 #include <httplib.h>
 
-#include "common/timer.h"
 #include "viewer/viewer_test_frames.h"
 
 namespace esdslam {
@@ -20,10 +19,8 @@ ViewerOptions FastOptions() {
 
 TEST(LiveViewer, OfferNeverWaitsAndEveryFrameIsEncodedSkippedOrDropped) {
   LiveViewer viewer(FastOptions(), nullptr, nullptr, /*serve=*/false);
-  Stopwatch offering;
   constexpr int kFrames = 200;
   for (int i = 0; i < kFrames; ++i) viewer.Offer(testing::MakeViewerFrame(i));
-  const double offer_ms = offering.ElapsedMs() / kFrames;
   viewer.Finish();
   const ViewerStats stats = viewer.stats();
   EXPECT_EQ(stats.offered, kFrames);
@@ -31,7 +28,6 @@ TEST(LiveViewer, OfferNeverWaitsAndEveryFrameIsEncodedSkippedOrDropped) {
   // the full queue drops (newest wins) instead of holding the caller.
   EXPECT_GT(stats.dropped, 0);
   EXPECT_EQ(stats.offered, stats.skipped + stats.dropped + stats.encoded - 1);  // + the final frame
-  EXPECT_LT(offer_ms, 2.0) << "Offer must only copy headers";
   std::uint64_t seen = 0;
   const std::vector<HubEvent> events = viewer.hub().WaitNewer(&seen, std::chrono::milliseconds(0));
   ASSERT_EQ(events.size(), 3u);  // the newest frame, map and status
