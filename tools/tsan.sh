@@ -7,12 +7,13 @@
 # Add a test here when it starts a thread of ours.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-targets=(test_common test_semantic test_mapping test_dense test_system test_viewer)
+targets=(test_common test_io test_semantic test_mapping test_dense test_system test_viewer)
 dir=build-tsan
 ESDSLAM_BUILD_TARGETS="${targets[*]}" tools/build.sh tsan
 export ESDSLAM_TEST_SERIAL_OPENCV=1
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/tools/tsan.supp"
 "$dir/tests/test_common" --gtest_filter='BoundedQueue.*:Worker.*'
+"$dir/tests/test_io" --gtest_filter='PrefetchingFrameSource*'
 "$dir/tests/test_semantic" --gtest_filter='SegmentationWorker.*'
 "$dir/tests/test_mapping" --gtest_filter='LocalMapperTest.*'
 "$dir/tests/test_dense" --gtest_filter='DenseMapper.*'

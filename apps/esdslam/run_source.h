@@ -1,7 +1,8 @@
 #pragma once
 // Where `esdslam run` takes its frames from (resolved here, at the edge, before the run's
 // configuration, because a camera decides the camera model):
-//   --sequence DIR      the folder read frame by frame (TumFolderSource), at most --max-frames
+//   --sequence DIR      the folder read frame by frame (TumFolderSource, decoded ahead on a loader
+//                       thread: PrefetchingFrameSource), at most --max-frames
 //   --sequence --live   the same frames played on the steady clock (LivePlaybackSource)
 //   --camera [URI]      an OpenNI2 device or .oni recording (device/openni_source.h); its camera
 //                       model replaces the settings' (--camera-model device) or is checked

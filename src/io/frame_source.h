@@ -9,6 +9,7 @@
 // "Using a camera"). A source that drops frames does not return them and counts them in the next
 // returned frame's dropped_before.
 
+#include <atomic>
 #include <cstddef>
 #include <optional>
 #include <vector>
@@ -58,15 +59,16 @@ class TumFolderSource final : public FrameSource {
   std::optional<RgbdFrame> Next() override;
   // Every listed frame, the skipped ones included.
   std::optional<std::size_t> frame_count() const override { return frames_.size(); }
-  // Frames skipped so far because an image could not be read.
-  std::size_t frames_skipped() const { return skipped_; }
+  // Frames skipped so far because an image could not be read; may be read from another thread
+  // than the one calling Next() (a PrefetchingFrameSource's loader).
+  std::size_t frames_skipped() const { return skipped_.load(); }
 
  private:
   std::vector<FrameEntry> frames_;
   double depth_map_factor_;
   FolderSourceOptions options_;
   std::size_t next_ = 0;
-  std::size_t skipped_ = 0;
+  std::atomic<std::size_t> skipped_{0};
 };
 
 }  // namespace esdslam
