@@ -25,12 +25,11 @@ cv::Mat KeepMaskCore(cv::Mat refined, const cv::Mat& raw_mask) {
 }
 
 std::optional<LabelSchedule> MakeSchedule(const SemanticSettings& settings) {
-  const bool newest_wins = settings.mode == SegmentationMode::kNewestWins;
-  if (!newest_wins && settings.segment_every <= 1) return std::nullopt;
+  if (!settings.predicted()) return std::nullopt;
   LabelScheduleOptions options;
   options.segment_every = settings.segment_every;
   options.label_delay_frames = settings.label_delay_frames;
-  options.newest_wins = newest_wins;
+  options.newest_wins = settings.mode == SegmentationMode::kNewestWins;
   return LabelSchedule(options);
 }
 

@@ -25,43 +25,30 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Runs a shell command in the source tree (the default model path is relative to it).
-testing::ShellResult Shell(const std::string& command) {
-  return testing::RunShell("cd '" + testing::SourceDir() + "' && " + command);
-}
-
-std::size_t DataLines(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::size_t count = 0;
-  while (std::getline(in, line)) count += !line.empty() && line[0] != '#';
-  return count;
-}
-
 TEST(ReportBrowser, ReportOfASyntheticRunRendersWithTheRunsNumbers) {
   const std::string bin = testing::EsdslamProgram();
   ASSERT_TRUE(fs::exists(bin)) << "build the esdslam target first";
-  ASSERT_EQ(Shell("command -v chromium").exit_code, 0) << "chromium is not installed (tools/install_deps.sh)";
+  ASSERT_EQ(testing::RunShellInSourceDir("command -v chromium").exit_code, 0) << "chromium is not installed (tools/install_deps.sh)";
   const std::string dir = ::esdslam::testing::TestTempPath("report_browser");
   fs::create_directories(dir);
   const std::string seq = dir + "/seq", run = dir + "/run";
 
-  testing::ShellResult r = Shell(bin + " synth --preset dynamic --frames 60 --seed 3 --out " + seq);
+  testing::ShellResult r = testing::RunShellInSourceDir(bin + " synth --preset dynamic --frames 60 --seed 3 --out " + seq);
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = Shell(bin + " run --settings " + seq + "/settings.yaml --sequence " + seq + " --out " + run +
+  r = testing::RunShellInSourceDir(bin + " run --settings " + seq + "/settings.yaml --sequence " + seq + " --out " + run +
             " --single-thread --debug-frames " + run + "/debug --report");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_TRUE(fs::exists(run + "/report.html")) << r.output;
-  const testing::ShellResult eval = Shell(bin + " eval " + seq + "/groundtruth.txt " + run + "/trajectory.txt");
+  const testing::ShellResult eval = testing::RunShellInSourceDir(bin + " eval " + seq + "/groundtruth.txt " + run + "/trajectory.txt");
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
 
   // Chromium: its own profile folder, no network use by the page (it has no external reference).
   const std::string chromium = "timeout 180 chromium --headless --no-sandbox --disable-gpu --no-first-run "
                                "--user-data-dir=" + dir + "/profile --hide-scrollbars ";
   const std::string url = "file://" + run + "/report.html";
-  r = Shell(chromium + "--window-size=1100,2400 --screenshot=" + dir + "/shot.png " + url);
+  r = testing::RunShellInSourceDir(chromium + "--window-size=1100,2400 --screenshot=" + dir + "/shot.png " + url);
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = Shell(chromium + "--dump-dom " + url + " > " + dir + "/dom.html");
+  r = testing::RunShellInSourceDir(chromium + "--dump-dom " + url + " > " + dir + "/dom.html");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string dom = testing::ReadTextFile(dir + "/dom.html");
 
@@ -76,8 +63,8 @@ TEST(ReportBrowser, ReportOfASyntheticRunRendersWithTheRunsNumbers) {
   }
   EXPECT_GE(metrics, 7);
   EXPECT_EQ(::esdslam::testing::MetricText(dom, "frames"), "60");
-  EXPECT_EQ(::esdslam::testing::MetricText(dom, "poses"), std::to_string(DataLines(run + "/trajectory.txt")));
-  EXPECT_EQ(::esdslam::testing::MetricText(dom, "keyframes"), std::to_string(DataLines(run + "/keyframes.txt")));
+  EXPECT_EQ(::esdslam::testing::MetricText(dom, "poses"), std::to_string(testing::DataLines(run + "/trajectory.txt")));
+  EXPECT_EQ(::esdslam::testing::MetricText(dom, "keyframes"), std::to_string(testing::DataLines(run + "/keyframes.txt")));
   const TimingTable timing = ReadTimingCsv(run + "/timing.csv");
   std::size_t crowded = 0;
   for (double f : timing.Numbers("dynamic_fraction")) crowded += f > 0.5;

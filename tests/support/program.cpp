@@ -32,4 +32,16 @@ std::string ReadTextFile(const std::string& path) {
   return text.str();
 }
 
+ShellResult RunShellInSourceDir(const std::string& command) {
+  return RunShell("cd '" + SourceDir() + "' && " + command);
+}
+
+std::size_t DataLines(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::size_t count = 0;
+  while (std::getline(in, line)) count += !line.empty() && line[0] != '#';
+  return count;
+}
+
 }  // namespace esdslam::testing

@@ -179,14 +179,15 @@ double Recall(const RunOutcome& out) { return static_cast<double>(out.flagged_on
 double Precision(const RunOutcome& out) { return static_cast<double>(out.flagged_on_mover) / std::max(1, out.flagged); }
 
 // Keypoints on the movers removed (recall, precision >= 0.9 over all frames), none of their
-// points in the map, every frame tracked accurately.
-void ExpectMoversRemoved(const RunOutcome& out, double min_precision = 0.9) {
+// points in the map (at most max_mover_point_share_percent % of the live points), every frame tracked
+// accurately.
+void ExpectMoversRemoved(const RunOutcome& out, double min_precision = 0.9, int max_mover_point_share_percent = 0) {
   EXPECT_EQ(out.tracked, kFrames);
   ASSERT_GT(out.gt_on_mover, 200) << "the movers must be visible in the test window";
   EXPECT_GE(Recall(out), 0.9);
   EXPECT_GE(Precision(out), min_precision);
   EXPECT_GT(out.live_points, 300);
-  EXPECT_EQ(out.points_from_movers, 0);
+  EXPECT_LE(out.points_from_movers, out.live_points * max_mover_point_share_percent / 100);
   EXPECT_LT(out.ate_rmse, 0.02);
 }
 
@@ -199,13 +200,7 @@ TEST(DynamicRunTest, SemanticModeRemovesMoverKeypointsAndKeepsThemOutOfTheMap) {
 // mask misses a sliver of a mover now and then, so a few of its points can reach the map
 // (measured: 3 of 1288); full mode (the default) culls them (next test: 0).
 TEST(DynamicRunTest, SemanticModeWithPredictedMasksKeepsAlmostAllMoversOut) {
-  const RunOutcome out = RunMode(DynamicMode::kSemantic);
-  EXPECT_EQ(out.tracked, kFrames);
-  EXPECT_GE(Recall(out), 0.9);
-  EXPECT_GE(Precision(out), 0.9);
-  EXPECT_GT(out.live_points, 300);
-  EXPECT_LE(out.points_from_movers, out.live_points / 100);
-  EXPECT_LT(out.ate_rmse, 0.02);
+  ExpectMoversRemoved(RunMode(DynamicMode::kSemantic), 0.9, 1);
 }
 
 TEST(DynamicRunTest, FullModeRemovesMoverKeypointsAndKeepsThemOutOfTheMap) {

@@ -29,18 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-testing::ShellResult Shell(const std::string& command) {
-  return testing::RunShell("cd '" + testing::SourceDir() + "' && " + command);
-}
-
-std::size_t DataLines(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::size_t count = 0;
-  while (std::getline(in, line)) count += !line.empty() && line[0] != '#';
-  return count;
-}
-
 // A program started in the background whose output (stdout and stderr) is read line by line
 // (blocking reads, no polling) until a line with `marker`; it serves until Stop (SIGTERM).
 class Server {
@@ -91,9 +79,9 @@ std::string LoadPage(const std::string& dir, const std::string& url, const std::
   const std::string chromium = "timeout 180 chromium --headless --no-sandbox --no-first-run --hide-scrollbars "
                                "--use-angle=swiftshader --enable-unsafe-swiftshader --window-size=1280,800 "
                                "--virtual-time-budget=10000 --user-data-dir=" + dir + "/profile ";
-  testing::ShellResult r = Shell(chromium + "--screenshot=" + shot + " '" + url + "'");
+  testing::ShellResult r = testing::RunShellInSourceDir(chromium + "--screenshot=" + shot + " '" + url + "'");
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  r = Shell(chromium + "--dump-dom '" + url + "' 2>/dev/null > " + dir + "/dom.html");
+  r = testing::RunShellInSourceDir(chromium + "--dump-dom '" + url + "' 2>/dev/null > " + dir + "/dom.html");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   return testing::ReadTextFile(dir + "/dom.html");
 }
@@ -111,25 +99,25 @@ double SceneInk(const std::string& shot_path) {
 }
 
 void ExpectRunNumbers(const std::string& dom, const std::string& run) {
-  const std::size_t frames = DataLines(run + "/timing.csv") - 1;  // minus the header
+  const std::size_t frames = testing::DataLines(run + "/timing.csv") - 1;  // minus the header
   EXPECT_NE(dom.find("<title>ESD-SLAM viewer: frame " + std::to_string(frames) + "</title>"), std::string::npos)
       << dom.substr(0, 400);
   EXPECT_EQ(::esdslam::testing::MetricText(dom, "frames"), std::to_string(frames));
-  EXPECT_EQ(::esdslam::testing::MetricText(dom, "poses"), std::to_string(DataLines(run + "/trajectory.txt")));
-  EXPECT_EQ(::esdslam::testing::MetricText(dom, "keyframes"), std::to_string(DataLines(run + "/keyframes.txt")));
+  EXPECT_EQ(::esdslam::testing::MetricText(dom, "poses"), std::to_string(testing::DataLines(run + "/trajectory.txt")));
+  EXPECT_EQ(::esdslam::testing::MetricText(dom, "keyframes"), std::to_string(testing::DataLines(run + "/keyframes.txt")));
   EXPECT_NE(::esdslam::testing::MetricText(dom, "track_ms"), "");  // the stage panel
 }
 
 TEST(ViewerBrowser, LiveViewerOfASyntheticRunShowsTheRunsNumbers) {
   const std::string bin = testing::EsdslamProgram();
   ASSERT_TRUE(fs::exists(bin)) << "build the esdslam target first";
-  ASSERT_EQ(Shell("command -v chromium").exit_code, 0) << "chromium is not installed (tools/install_deps.sh)";
+  ASSERT_EQ(testing::RunShellInSourceDir("command -v chromium").exit_code, 0) << "chromium is not installed (tools/install_deps.sh)";
   ASSERT_TRUE(fs::exists(testing::SourceDir() + "/tools/web/node_modules/three/build/three.module.js"))
       << "three.js is not installed: npm ci --prefix tools/web (tools/install_deps.sh)";
   const std::string dir = ::esdslam::testing::TestTempPath("viewer_browser");
   fs::create_directories(dir);
   const std::string seq = dir + "/seq", run = dir + "/run";
-  const testing::ShellResult synth = Shell(bin + " synth --preset dynamic --frames 60 --seed 3 --out " + seq);
+  const testing::ShellResult synth = testing::RunShellInSourceDir(bin + " synth --preset dynamic --frames 60 --seed 3 --out " + seq);
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
 
   {
