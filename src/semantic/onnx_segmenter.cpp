@@ -9,8 +9,21 @@
 #include "common/error.h"
 #include "common/setting_error.h"
 #include "common/timer.h"
+#include "semantic/score_upsampling.h"
 
 namespace esdslam {
+namespace {
+
+// The class planes of a 1 x C x H x W blob of that size (copies); none for another shape.
+std::vector<cv::Mat> PlanesOf(const cv::Mat& blob, cv::Size size) {
+  std::vector<cv::Mat> planes;
+  if (blob.dims != 4 || blob.size[0] != 1 || blob.size[2] != size.height || blob.size[3] != size.width) return planes;
+  for (int c = 0; c < blob.size[1]; ++c)
+    planes.push_back(cv::Mat(size, CV_32F, const_cast<float*>(blob.ptr<float>(0, c))).clone());
+  return planes;
+}
+
+}  // namespace
 
 void OnnxSegmenterOptions::Check() const {
   if (model_path.empty()) throw Error("Semantic.model: no model path given");
@@ -39,10 +52,48 @@ OnnxSegmenter::OnnxSegmenter(OnnxSegmenterOptions options) : options_(std::move(
   net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
   net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
   if (options_.threads > 0) cv::setNumThreads(options_.threads);
+  scores_layer_ = FinalUpsampleInput();
   // A test run checks that the model matches the configured input size and class count.
   Scores(cv::Mat(options_.input_height, options_.input_width, CV_8UC3, cv::Scalar::all(127)));
   spdlog::info("segmenter: {} ({}x{} input, {} classes)", options_.model_path, options_.input_width,
                options_.input_height, options_.class_names.size());
+}
+
+std::string OnnxSegmenter::FinalUpsampleInput() {
+  const std::vector<int> outputs = net_.getUnconnectedOutLayers();
+  if (outputs.size() != 1) return "";
+  // The last layer other than an Identity (the ONNX importer names the graph output with one).
+  cv::Ptr<cv::dnn::Layer> last = net_.getLayer(outputs[0]);
+  std::vector<cv::Ptr<cv::dnn::Layer>> inputs = net_.getLayerInputs(outputs[0]);
+  while (last->type == "Identity" && inputs.size() == 1) {
+    last = inputs[0];
+    inputs = net_.getLayerInputs(net_.getLayerId(last->name));
+  }
+  if (last->type != "Resize" || inputs.size() != 1) return "";
+  const std::string input = inputs[0]->name, output = last->name;
+  // Both blobs for a noise image: the shortcut is taken only where it gives the layer's result.
+  cv::Mat noise(options_.input_height, options_.input_width, CV_8UC3);
+  cv::RNG(1).fill(noise, cv::RNG::UNIFORM, 0, 256);
+  std::vector<cv::Mat> blobs;
+  try {
+    net_.setInput(MakeBlob(noise));
+    net_.forward(blobs, std::vector<cv::String>{input, output});
+  } catch (const cv::Exception& e) {
+    throw InputError(options_.model_path, 0, fmt::format("OpenCV DNN cannot run the model: {}", e.what()));
+  }
+  const cv::Mat& full = blobs[1];
+  if (full.dims != 4 || blobs[0].dims != 4 || full.size[1] != blobs[0].size[1]) return "";
+  const std::vector<cv::Mat> ours = UpsampleAlignCorners(blobs[0], cv::Size(full.size[3], full.size[2]));
+  double largest_error = 0, largest_score = 0;
+  for (int c = 0; c < full.size[1]; ++c) {
+    const cv::Mat layer(full.size[2], full.size[3], CV_32F, const_cast<float*>(full.ptr<float>(0, c)));
+    largest_error = std::max(largest_error, cv::norm(layer, ours[static_cast<std::size_t>(c)], cv::NORM_INF));
+    largest_score = std::max(largest_score, cv::norm(layer, cv::NORM_INF));
+  }
+  const bool same = largest_error <= 1e-4 * (1.0 + largest_score);
+  spdlog::debug("segmenter: final Resize {} upsampled here: {} (largest difference {:.2g})", output,
+                same ? "yes" : "no", largest_error);
+  return same ? input : "";
 }
 
 cv::Mat OnnxSegmenter::MakeBlob(const cv::Mat& bgr) const {
@@ -61,27 +112,26 @@ cv::Mat OnnxSegmenter::MakeBlob(const cv::Mat& bgr) const {
 std::vector<cv::Mat> OnnxSegmenter::Scores(const cv::Mat& bgr) {
   if (bgr.empty() || bgr.type() != CV_8UC3) throw Error("segmenter input must be a non-empty CV_8UC3 BGR image");
   const cv::Mat blob = MakeBlob(bgr);
-  cv::Mat out;
+  const cv::Size input_size(options_.input_width, options_.input_height);
+  std::vector<cv::Mat> planes;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     try {
       net_.setInput(blob);
-      out = net_.forward().clone();
+      if (scores_layer_.empty()) {
+        planes = PlanesOf(net_.forward(), input_size);
+      } else {  // the final upsampling done here (FinalUpsampleInput)
+        planes = UpsampleAlignCorners(net_.forward(scores_layer_), input_size);
+      }
     } catch (const cv::Exception& e) {
       throw Error(fmt::format("{}: inference failed (does the model take {}x{} inputs?): {}", options_.model_path,
                               options_.input_width, options_.input_height, e.what()));
     }
   }
-  const int num_classes = static_cast<int>(options_.class_names.size());
-  if (out.dims != 4 || out.size[0] != 1 || out.size[1] != num_classes || out.size[2] != options_.input_height ||
-      out.size[3] != options_.input_width)
+  const std::size_t num_classes = options_.class_names.size();
+  if (planes.size() != num_classes || planes[0].size() != input_size)
     throw Error(fmt::format("{}: expected 1x{}x{}x{} scores from the network", options_.model_path, num_classes,
                             options_.input_height, options_.input_width));
-  std::vector<cv::Mat> planes;
-  for (int c = 0; c < num_classes; ++c)
-    planes.emplace_back(options_.input_height, options_.input_width, CV_32F, out.ptr<float>(0, c));
-  // The planes share `out`'s buffer; keep it alive through the first plane's reference count.
-  for (auto& p : planes) p = p.clone();
   return planes;
 }
 

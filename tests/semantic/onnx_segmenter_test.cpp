@@ -73,6 +73,15 @@ TEST(OnnxSegmenter, ShippedModelLabelsAtImageResolution) {
   EXPECT_GT(r.segment_ms, 0.0);
 }
 
+TEST(OnnxSegmenter, ShippedModelsFinalResizeIsDoneOutsideTheNetwork) {
+  // The load-time check found that UpsampleAlignCorners gives the network's own final Resize.
+  OnnxSegmenterOptions o;
+  o.model_path = ShippedModel();
+  o.input_width = 256;
+  o.input_height = 192;
+  EXPECT_TRUE(OnnxSegmenter(o).upsamples_scores_itself());
+}
+
 TEST(ArgmaxAndSoftmax, KnownAnswers) {
   std::vector<cv::Mat> scores{cv::Mat(1, 3, CV_32F), cv::Mat(1, 3, CV_32F)};
   scores[0].at<float>(0) = 1.0f, scores[1].at<float>(0) = 0.0f;
