@@ -19,8 +19,9 @@
 // mask_dilation_px (Dynamic.maskDilation). A predicted mask steers the extractor's keypoint
 // budget exactly as a fresh one does (it is the same DynamicMaskResult).
 //
-// Threading: all calls from one thread (the tracking thread); the SegmentationWorker owns the
-// network's thread.
+// Threading: all calls from one thread (the mask thread of dynamic/mask_ahead.h, or the tracking
+// thread with --single-thread), except Stats(), which is thread-safe; the SegmentationWorker owns
+// the network's thread.
 
 #include <cstdint>
 #include <memory>

@@ -47,6 +47,8 @@ const std::vector<FrameColumn>& FrameColumns() {
     {"predict_ms", "ms", 3, [](R r) { return r.mask.predict_ms; }, "predict"},
     {"predict_cpu_ms", "ms", 3, [](R r) { return r.mask.predict_cpu_ms; }},
     {"label_trust", "", 3, [](R r) { return r.mask.trust; }},
+    // Tracking waited for the mask thread (the mask of a frame is made ahead, dynamic/mask_ahead.h).
+    {"mask_wait_ms", "ms", 3, [](R r) { return r.mask_wait_ms; }, "mask_wait"},
     // Summary only: the dynamic stages together (region growing + geometry check).
     {"dynamic_ms", "ms", 3, [](R r) { return r.mask.grow_ms + r.track.geometry.check_ms; }, "grow+geo", false},
     {"dynamic_cpu_ms", "ms", 3, [](R r) { return r.mask.grow_cpu_ms + r.track.geometry.check_cpu_ms; }, "(cpu)",

@@ -3,7 +3,8 @@
 // pipeline puts it in its slot, nothing is copied field by field:
 //   run loop         index, timestamp, load_ms (time spent taking frames from the source),
 //                    dropped_before (the source's count, RgbdFrame::dropped_before)
-//   semantic stage   mask (SemanticFrontEnd::MaskFor; default in modes none and geometry)
+//   semantic stage   mask (SemanticFrontEnd::MaskFor, made ahead by MaskAhead; default in modes
+//                    none and geometry), mask_wait_ms
 //   SLAM system      track (SlamSystem::TrackRgbd), and inside it the geometry check's
 //                    statistics (track.geometry, GeometryFilter::Apply's value)
 //   pipeline         keypoints (counted from the tracked frame's flags), features, bgr
@@ -39,6 +40,7 @@ struct FrameReport {
                            // a live source: waiting for the frame to arrive)
   int dropped_before = 0;  // frames the source dropped just before this one (live playback, camera)
   DynamicMaskResult mask;  // the dynamic mask and its timings
+  double mask_wait_ms = 0;  // tracking waited for the mask thread (dynamic/mask_ahead.h); 0 inline
   TrackOutcome track;      // extraction, tracking, state, pose, new keyframe, geometry check
   KeypointCounts keypoints;
   std::shared_ptr<const FeatureSet> features;  // the tracked frame's keypoints and is_dynamic flags

@@ -52,8 +52,10 @@ KeypointCounts CountKeypoints(const FeatureSet& features) {
 Pipeline::Pipeline(const RunConfig& config) : config_(Checked(config)) {
   const RunSettings& settings = config_.settings;
   if (UsesSegmentation(config_.pipeline.mode))
-    semantic_ = std::make_unique<SemanticFrontEnd>(settings.semantic, settings.region_growing, settings.mask_dilation_px,
-                                                   config_.slam.single_thread);
+    masks_ = std::make_unique<MaskAhead>(
+        std::make_unique<SemanticFrontEnd>(settings.semantic, settings.region_growing, settings.mask_dilation_px,
+                                           config_.slam.single_thread),
+        ThreadedOrInline(!config_.slam.single_thread));
   system_ = std::make_unique<SlamSystem>(settings.core, config_.slam);
   if (config_.pipeline.dense) {
     dense_poses_ = std::make_unique<SlamKeyframePoses>(&system_->map());
@@ -67,7 +69,7 @@ Pipeline::Pipeline(const RunConfig& config) : config_(Checked(config)) {
 
 Pipeline::~Pipeline() {
   try {
-    if (semantic_) semantic_->Stop();
+    if (masks_) masks_->Stop();
     if (dense_) dense_->Finish();
   } catch (const std::exception& e) {
     spdlog::error("run: shutdown failed: {}", e.what());
@@ -76,7 +78,7 @@ Pipeline::~Pipeline() {
 
 void Pipeline::SubmitAhead(const RgbdFrame& frame) {
   if (slam_stopped_) throw Error("pipeline: frame submitted after Finish");
-  if (semantic_) semantic_->Submit(next_id_, frame.timestamp, frame.bgr);
+  if (masks_) masks_->Submit(next_id_, frame.timestamp, frame.bgr, frame.depth_m);
   ++next_id_;
   ahead_.push_back(frame.timestamp);
 }
@@ -93,7 +95,11 @@ FrameReport Pipeline::Track(const RgbdFrame& frame) {
   ahead_.pop_front();
   report.timestamp = frame.timestamp;
   report.bgr = frame.bgr;
-  if (semantic_) report.mask = semantic_->MaskFor(report.index, frame.bgr, frame.depth_m);
+  if (masks_) {
+    MaskAheadResult made = masks_->MaskFor(report.index, frame.bgr, frame.depth_m);
+    report.mask = std::move(made.mask);
+    report.mask_wait_ms = made.wait_ms;
+  }
   report.track = system_->TrackRgbd(frame.bgr, frame.depth_m, frame.timestamp, report.mask.mask,
                                     GeometryExempt(report.mask));
   report.features = system_->last_frame().shared_features();
@@ -112,7 +118,7 @@ void Pipeline::AddDenseKeyframe(const RgbdFrame& frame, const cv::Mat& mask, Key
 void Pipeline::StopSlam() {
   if (slam_stopped_) return;
   slam_stopped_ = true;
-  if (semantic_) semantic_->Stop();
+  if (masks_) masks_->Stop();
   system_->Shutdown();
 }
 

@@ -14,16 +14,17 @@
 //   3. a new keyframe handed to the dense mapper with its depth masked by the semantic and the
 //      geometry masks;
 //   4. the FrameReport (system/frame_report.h).
-// Look-ahead: SubmitAhead(frame) hands a frame's colour image to the segmentation thread before
-// the previous frame is tracked, so the network runs while extraction and tracking do (the run
-// loop submits frame i+1, then tracks frame i). A frame not submitted ahead is submitted by
+// Look-ahead: SubmitAhead(frame) hands a frame to the semantic stage before the previous frame is
+// tracked (the run loop submits frame i+1, then tracks frame i): in a threaded run its mask is
+// made on the mask thread (dynamic/mask_ahead.h) while frame i is extracted and tracked, and the
+// network runs on its own thread. A frame not submitted ahead is submitted by
 // Track itself (a live caller without look-ahead simply calls Track). Frames are numbered in
 // submission order (FrameReport::index); they must be tracked in that order.
 // Which frames the network labels is decided by frame id in the semantic stage (LabelSchedule);
 // a user's own dynamic mask would join the mask in step 1.
 //
-// Threading: all calls from one thread (the tracking thread). The segmentation, local-mapping,
-// loop-closing and dense threads are owned here and stopped by Finish() or the destructor.
+// Threading: all calls from one thread (the tracking thread). The mask, segmentation,
+// local-mapping, loop-closing and dense threads are owned here and stopped by Finish() or the destructor.
 
 #include <cstdint>
 #include <deque>
@@ -34,6 +35,7 @@
 
 #include "dense/dense_mapper.h"
 #include "dense/slam_keyframe_poses.h"
+#include "dynamic/mask_ahead.h"
 #include "dynamic/semantic_front_end.h"
 #include "io/frame_source.h"
 #include "system/frame_report.h"
@@ -70,13 +72,13 @@ class Pipeline {
   const SlamSystem& system() const { return *system_; }
   // Null without dense. Thread-safe on-demand builds at the current keyframe poses.
   const DenseMapper* dense() const { return dense_.get(); }
-  const SemanticFrontEnd* semantic() const { return semantic_.get(); }
+  const SemanticFrontEnd* semantic() const { return masks_ ? &masks_->front_end() : nullptr; }
 
  private:
   void AddDenseKeyframe(const RgbdFrame& frame, const cv::Mat& mask, KeyFrame* keyframe);
 
   const RunConfig config_;
-  std::unique_ptr<SemanticFrontEnd> semantic_;
+  std::unique_ptr<MaskAhead> masks_;  // the semantic stage (dynamic/mask_ahead.h); null without segmentation
   std::unique_ptr<SlamSystem> system_;
   std::unique_ptr<SlamKeyframePoses> dense_poses_;  // before dense_: its worker reads them
   std::unique_ptr<DenseMapper> dense_;

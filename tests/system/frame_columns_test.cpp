@@ -19,7 +19,8 @@ namespace {
 const char* kHeader =
     "timestamp,load_ms,extract_ms,track_ms,state,lost,seg_latency_ms,seg_wait_ms,mask_ms,label_age,"
     "dynamic_fraction,keypoints,dynamic_keypoints,grow_ms,geometry_ms,geometry_keypoints,geometry_culled,"
-    "geometry_covered,geometry_window_px,grow_cpu_ms,geometry_cpu_ms,dropped_before,predict_ms,predict_cpu_ms,label_trust";
+    "geometry_covered,geometry_window_px,grow_cpu_ms,geometry_cpu_ms,dropped_before,predict_ms,predict_cpu_ms,label_trust,"
+    "mask_wait_ms";
 
 // Every field a column reads, each a different value.
 FrameReport HandFilledReport() {
@@ -35,6 +36,7 @@ FrameReport HandFilledReport() {
   r.mask.grow_ms = 0.5;
   r.mask.grow_cpu_ms = 0.25;
   r.mask.dynamic_fraction = 0.123456;
+  r.mask_wait_ms = 0.75;
   r.track.state = TrackingState::kOk;
   r.track.has_pose = true;
   r.track.extract_ms = 9.875;
@@ -52,7 +54,7 @@ TEST(FrameColumnsTest, CsvHeaderAndRowFromAHandFilledReport) {
   EXPECT_EQ(FrameCsvHeader(), kHeader);
   EXPECT_EQ(FrameCsvRow(ReadFrameColumns(HandFilledReport())),
             "1305031102.175304,12.346,9.875,17.062,OK,0,140.250,3.500,1.750,2,0.1235,1000,120,0.500,2.125,20,4,31,3,"
-            "0.250,2.000,3,0.000,0.000,1.000");
+            "0.250,2.000,3,0.000,0.000,1.000,0.750");
 }
 
 TEST(FrameColumnsTest, EmptyStagesLostFramesAndSkippedChecks) {
@@ -108,7 +110,7 @@ TEST(FrameColumnsTest, SummaryLinesInTableOrderWithMeanAndMedian) {
   }
   EXPECT_EQ(first, "load     mean    3.00 ms  median    2.00 ms");
   EXPECT_EQ(labels, (std::vector<std::string>{"load", "extract", "track", "seg_lat", "seg_wait", "mask", "grow",
-                                              "geometry", "predict", "grow+geo", "(cpu)"}));
+                                              "geometry", "predict", "mask_wait", "grow+geo", "(cpu)"}));
   EXPECT_EQ(ComputeMeanMedian({}).mean, 0);
   EXPECT_EQ(ComputeMeanMedian({4, 1, 3, 2}).median, 3);  // upper middle, as the summary always had
 }
