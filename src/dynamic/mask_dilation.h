@@ -1,27 +1,21 @@
 #pragma once
-// Elliptic dilation whose cost a setting cannot blow up: a radius that reaches past the image's
-// diagonal gives the image's maximum everywhere (what the dilation gives then), computed without
-// building the (2r+1)^2 kernel, so e.g. Dynamic.maskDilation: 100000 needs no 40 GB.
-
-#include <cmath>
+// Elliptic dilation of masks, the same result as cv::dilate with
+// cv::getStructuringElement(MORPH_ELLIPSE, 2r+1 x 2r+1) (default border: outside adds nothing),
+// at a cost a setting cannot blow up:
+//  - a radius that reaches past the image's diagonal gives the image's maximum everywhere (what
+//    the dilation gives then), computed without building the (2r+1)^2 kernel, so e.g.
+//    Dynamic.maskDilation: 100000 needs no 40 GB;
+//  - CV_8U masks are dilated row by row: each kernel row is a centred run of half-width a(dy),
+//    so the result is the maximum over dy of the mask dilated horizontally by a(dy) and shifted
+//    by dy. Horizontal dilations are computed once per distinct half-width (r + 1 at most):
+//    1.4x faster than OpenCV's generic kernel at r = 10 and 4x at r = 20 on 640x480 (issue 12;
+//    OpenCV's kernel is used below r = 6, where it is faster).
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
 
 namespace esdslam {
 
-// mask: single channel; radius_px <= 0 returns it unchanged.
-inline cv::Mat DilateEllipse(const cv::Mat& mask, int radius_px) {
-  if (radius_px <= 0 || mask.empty()) return mask;
-  // Every offset inside the image lies within the ellipse (+2 px for the kernel's rounding).
-  if (radius_px >= std::hypot(mask.cols, mask.rows) + 2) {
-    double max_value = 0;
-    cv::minMaxLoc(mask, nullptr, &max_value);
-    return cv::Mat(mask.size(), mask.type(), cv::Scalar(max_value));
-  }
-  cv::Mat out;
-  cv::dilate(mask, out, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius_px + 1, 2 * radius_px + 1)));
-  return out;
-}
+// mask: single channel; radius_px <= 0 returns it unchanged (shared, not copied).
+cv::Mat DilateEllipse(const cv::Mat& mask, int radius_px);
 
 }  // namespace esdslam

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "dynamic/mask_dilation.h"
 
 namespace esdslam {
 namespace {
@@ -50,13 +51,6 @@ cv::Mat UpsampleNearest(const cv::Mat& small, cv::Size size) {
     for (int x = 0; x < small.cols; ++x) std::memset(row + x * fx, in[x], static_cast<std::size_t>(fx));
     for (int k = 1; k < fy; ++k) std::memcpy(out.ptr<std::uint8_t>(y * fy + k), row, static_cast<std::size_t>(size.width));
   }
-  return out;
-}
-
-cv::Mat Dilate(const cv::Mat& mask, int radius_px) {
-  if (radius_px <= 0) return mask;
-  cv::Mat out;
-  cv::dilate(mask, out, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius_px + 1, 2 * radius_px + 1)));
   return out;
 }
 
@@ -160,7 +154,7 @@ MaskPrediction MaskPredictor::Predict() const {
     cv::threshold(out.masks.dynamic, out.masks.dynamic, 127, 255, cv::THRESH_BINARY);
     const int radius = std::min(options_.max_age_dilation_px,
                                 static_cast<int>(std::floor(options_.age_dilation_px_per_frame * out.label_age)));
-    out.masks.dynamic = Dilate(CleanUp(out.masks.dynamic, options_.cleanup_radius_px), radius);
+    out.masks.dynamic = DilateEllipse(CleanUp(out.masks.dynamic, options_.cleanup_radius_px), radius);
   }
   const double age_trust = 1.0 - static_cast<double>(out.label_age) / options_.max_trusted_age;
   const double coverage_trust = 1.0 - out.uncovered_fraction / options_.max_uncovered_fraction;

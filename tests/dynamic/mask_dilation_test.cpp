@@ -27,6 +27,24 @@ TEST(MaskDilationTest, EqualsOpenCvsEllipticDilationBelowAndAtTheShortcut) {
   }
 }
 
+// The row-run algorithm against OpenCV's kernel on random masks (values, not only 0/255), near
+// the borders, every radius up to 25, and a non-8-bit mask (OpenCV's path).
+TEST(MaskDilationTest, EqualsOpenCvOnRandomMasksForEveryRadius) {
+  cv::RNG rng(12345);
+  for (const cv::Size size : {cv::Size(64, 48), cv::Size(7, 31), cv::Size(640, 3)}) {
+    cv::Mat mask = cv::Mat::zeros(size, CV_8U);
+    for (int i = 0; i < 12; ++i)
+      mask.at<std::uint8_t>(rng.uniform(0, size.height), rng.uniform(0, size.width)) =
+          static_cast<std::uint8_t>(rng.uniform(1, 256));
+    for (int radius = 1; radius <= 25; ++radius)
+      EXPECT_EQ(cv::countNonZero(DilateEllipse(mask, radius) != Reference(mask, radius)), 0)
+          << size << " radius " << radius;
+  }
+  cv::Mat wide = cv::Mat::zeros(20, 30, CV_16U);
+  wide.at<std::uint16_t>(10, 12) = 1000;
+  EXPECT_EQ(cv::countNonZero(DilateEllipse(wide, 4) != Reference(wide, 4)), 0);
+}
+
 // Regression (issue 14): Dynamic.maskDilation: 100000 asked for a 40 GB kernel.
 TEST(MaskDilationTest, AHugeRadiusNeedsNoHugeKernel) {
   const cv::Mat mask = SmallMask();
