@@ -35,7 +35,7 @@ DenseOutputSummary WriteDenseOutputs(const DenseMap& map, const KeyframePoses& p
   if (files.pcd || map.options().write_pcd) WritePcd(dir + "/dense.pcd", cloud);
   if (files.octomap) {
     watch.Restart();
-    const OctomapStats stats = WriteOctomap(dir + "/octomap.bt", map, resolved);
+    const OctomapStats stats = WriteOctomap(dir + "/octomap.bt", map, resolved, &cloud);
     summary.octomap_ms = watch.ElapsedMs();
     summary.occupied_leaves = stats.occupied_leaves;
     summary.free_leaves = stats.free_leaves;

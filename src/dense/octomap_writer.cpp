@@ -1,6 +1,8 @@
 #include "dense/octomap_writer.h"
 
 #include <algorithm>
+#include <unordered_map>
+#include <vector>
 
 #include <octomap/OcTree.h>
 
@@ -80,14 +82,35 @@ std::size_t CarveOccupiedCells(octomap::OcTree* tree, const DenseMap& map, const
   return count;
 }
 
+// Occupied cells holding fewer than `min_points` points of `cloud` are set free. Returns how many.
+std::size_t FreeUnsupportedCells(octomap::OcTree* tree, const PointCloud& cloud, int min_points) {
+  std::unordered_map<octomap::OcTreeKey, int, octomap::OcTreeKey::KeyHash> points_per_cell;
+  for (const Eigen::Vector3f& p : cloud.points) {
+    octomap::OcTreeKey key;
+    if (tree->coordToKeyChecked(ToOcto(p), key)) ++points_per_cell[key];
+  }
+  std::vector<octomap::OcTreeKey> unsupported;
+  for (auto it = tree->begin_leafs(); it != tree->end_leafs(); ++it) {
+    if (!tree->isNodeOccupied(*it)) continue;
+    const auto found = points_per_cell.find(it.getKey());
+    if (found == points_per_cell.end() || found->second < min_points) unsupported.push_back(it.getKey());
+  }
+  for (const octomap::OcTreeKey& key : unsupported)
+    tree->setNodeValue(key, tree->getClampingThresMinLog(), /*lazy_eval=*/true);
+  return unsupported.size();
+}
+
 }  // namespace
 
-OctomapStats WriteOctomap(const std::string& path, const DenseMap& map, const KeyframePoses& poses) {
+OctomapStats WriteOctomap(const std::string& path, const DenseMap& map, const KeyframePoses& poses,
+                          const PointCloud* cloud) {
   octomap::OcTree tree(map.options().octomap_resolution);
   OctomapStats stats;
   const std::vector<PosedRays> keyframes = map.RaysAt(poses);
   for (const PosedRays& posed : keyframes) stats.rays += InsertKeyframeRays(&tree, map, posed);
   if (map.options().free_space_carving) stats.carved_cells = CarveOccupiedCells(&tree, map, keyframes);
+  if (cloud && map.options().octomap_min_points > 0)
+    stats.unsupported_cells = FreeUnsupportedCells(&tree, *cloud, map.options().octomap_min_points);
   tree.updateInnerOccupancy();
   for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
     ++stats.leaf_nodes;

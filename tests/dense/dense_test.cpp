@@ -236,6 +236,33 @@ TEST(Octomap, WallOccupiedAndSpaceInFrontFree) {
   EXPECT_EQ(tree.search(0.0, 0.0, 3.0), nullptr);  // behind the wall: unknown
 }
 
+// Dense.octomapMinPoints: occupied cells without enough cloud points are set free; the ones that
+// hold points stay.
+TEST(Octomap, CellsWithoutCloudPointsAreFreedWhenAsked) {
+  DenseOptions options;
+  options.octomap_min_points = 1;
+  DenseMap map(PinholeCamera(TestIntrinsics()), options);
+  map.Integrate(WallKeyframe(0, Rigid3()), {});
+  PointCloud cloud;  // only the wall's left half (x < 0) keeps points
+  for (float x = -0.5f; x < 0.f; x += 0.01f)
+    for (float y = -0.3f; y <= 0.3f; y += 0.01f) cloud.push_back({x, y, 2.025f}, {0, 0, 0});
+  const std::string path = testing::TestTempPath("octomap_support", ".bt");
+  const OctomapStats stats = WriteOctomap(path, map, {}, &cloud);
+  EXPECT_GT(stats.unsupported_cells, 0u);
+  octomap::OcTree tree(0.1);
+  ASSERT_TRUE(tree.readBinary(path));
+  const octomap::OcTreeNode* left = tree.search(-0.2, 0.0, 2.025);
+  const octomap::OcTreeNode* right = tree.search(0.2, 0.0, 2.025);
+  ASSERT_NE(left, nullptr);
+  ASSERT_NE(right, nullptr);
+  EXPECT_TRUE(tree.isNodeOccupied(left));
+  EXPECT_FALSE(tree.isNodeOccupied(right));
+  // Off (the default): the same cloud frees nothing.
+  DenseMap plain{PinholeCamera(TestIntrinsics()), DenseOptions{}};
+  plain.Integrate(WallKeyframe(0, Rigid3()), {});
+  EXPECT_EQ(WriteOctomap(path, plain, {}, &cloud).unsupported_cells, 0u);
+}
+
 TEST(MapRender, TopViewDrawsPointsAndCameraPath) {
   PointCloud floor;
   for (float x = -1.f; x <= 1.f; x += 0.02f)
