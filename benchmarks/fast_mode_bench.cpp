@@ -5,8 +5,8 @@
 // --from-disk, so that the figures are the pipeline's, not the PNG decoder's.
 //
 // Prints, per run and as medians over the runs of each configuration: wall time per frame, CPU
-// time per frame of the process and of the tracking thread (the rest is the network's, local
-// mapping's and loop closing's threads), the per-frame stage times of timing.csv (wall, and CPU
+// time per frame of the process and of the tracking thread (the rest is the mask thread's, the
+// network's, local mapping's and loop closing's), the per-frame stage times of timing.csv (wall, and CPU
 // where the column has it), the time tracking waited for labels, frames without a pose, ATE
 // (when the sequence has groundtruth.txt); and the ratio of the median wall times, fast / none.
 //
@@ -114,7 +114,7 @@ void PrintRun(const std::string& name, const Measured& m) {
 
 // Median per configuration of every figure, then the stage table and the ratio.
 void PrintSummary(const std::map<std::string, std::vector<Measured>>& runs) {
-  std::printf("\nmedians over %zu runs each (ms per frame; *_cpu = CPU time of the tracking thread)\n",
+  std::printf("\nmedians over %zu runs each (ms per frame; *_cpu = CPU time of the thread that ran the stage)\n",
               runs.begin()->second.size());
   std::printf("%-22s", "figure");
   for (const auto& [name, list] : runs) std::printf(" %10s", name.c_str());
