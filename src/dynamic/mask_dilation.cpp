@@ -36,14 +36,19 @@ cv::Mat DilateRowsByRuns(const cv::Mat& mask, int radius_px) {
     if (a == 0) h = mask;
     else cv::dilate(mask, h, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * a + 1, 1)));
   }
+  // The horizontal dilation each kernel row takes (null: empty row), looked up once, not per row.
+  std::vector<const cv::Mat*> row_source(half_widths.size(), nullptr);
+  for (std::size_t i = 0; i < half_widths.size(); ++i)
+    if (half_widths[i] >= 0) row_source[i] = &horizontal.at(half_widths[i]);
   cv::Mat out = cv::Mat::zeros(mask.size(), CV_8U);
   const int cols = mask.cols;
   for (int v = 0; v < mask.rows; ++v) {
     std::uint8_t* dst = out.ptr<std::uint8_t>(v);
     for (int dy = -radius_px; dy <= radius_px; ++dy) {
-      const int src_row = v + dy, a = half_widths[dy + radius_px];
-      if (a < 0 || src_row < 0 || src_row >= mask.rows) continue;
-      const std::uint8_t* src = horizontal.at(a).ptr<std::uint8_t>(src_row);
+      const int src_row = v + dy;
+      const cv::Mat* source = row_source[dy + radius_px];
+      if (!source || src_row < 0 || src_row >= mask.rows) continue;
+      const std::uint8_t* src = source->ptr<std::uint8_t>(src_row);
       for (int u = 0; u < cols; ++u) dst[u] = std::max(dst[u], src[u]);
     }
   }
