@@ -22,6 +22,14 @@ esac
 if command -v ccache >/dev/null 2>&1; then
   args+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
   export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$(cd .. && pwd)}"
+  # Objects compiled with the precompiled headers (CMakeLists.txt ESDSLAM_PCH) are cached only
+  # with these.
+  export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros,include_file_mtime,include_file_ctime}"
+fi
+# Ninja when installed (tools/install_deps.sh installs it): it keeps both cores busy across the
+# stage libraries. A build tree configured earlier keeps its generator.
+if command -v ninja >/dev/null 2>&1 && { [ ! -f "$dir/CMakeCache.txt" ] || grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$dir/CMakeCache.txt"; }; then
+  args+=(-G Ninja)
 fi
 cmake -S . -B "$dir" "${args[@]}" >/dev/null
 # ESDSLAM_BUILD_TARGETS: space-separated targets to build instead of all.

@@ -18,6 +18,10 @@ args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ "-DCMAKE_CX
 if command -v ccache >/dev/null 2>&1; then
   args+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
   export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$(cd .. && pwd)}"
+  export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros,include_file_mtime,include_file_ctime}"
+fi
+if command -v ninja >/dev/null 2>&1 && { [ ! -f build-fuzz/CMakeCache.txt ] || grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' build-fuzz/CMakeCache.txt; }; then
+  args+=(-G Ninja)
 fi
 cmake -S . -B build-fuzz "${args[@]}" >/dev/null
 cmake --build build-fuzz -j "$jobs" --target "${targets[@]/%/_fuzzer}"

@@ -6,7 +6,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends \
-  build-essential cmake pkg-config git \
+  build-essential cmake ninja-build pkg-config git \
   libeigen3-dev libopencv-dev libceres-dev liboctomap-dev \
   libyaml-cpp-dev libspdlog-dev libfmt-dev libcli11-dev libtbb-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libopenni2-dev libcpp-httplib-dev \
