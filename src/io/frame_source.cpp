@@ -48,7 +48,11 @@ std::optional<RgbdFrame> TumFolderSource::Next() {
       continue;
     }
     CheckSize(images.bgr, entry.rgb_path, options_.image_size);
-    return RgbdFrame{entry.timestamp, std::move(images.bgr), std::move(images.depth_m)};
+    RgbdFrame frame;
+    frame.timestamp = entry.timestamp;
+    frame.bgr = std::move(images.bgr);
+    frame.depth_m = std::move(images.depth_m);
+    return frame;
   }
   return std::nullopt;
 }

@@ -26,6 +26,9 @@ struct RgbdFrame {
   cv::Mat bgr;           // CV_8UC3 (or CV_8UC1 grey), OpenCV channel order as decoded
   cv::Mat depth_m;       // CV_32F metres, 0 = invalid; same size as bgr
   int dropped_before = 0;  // frames the source dropped between the frame it returned before and this one
+  // A library caller's own knowledge of moving things (empty from the folder and camera sources):
+  cv::Mat dynamic_mask;  // CV_8U, nonzero = moving; joins the pipeline's own dynamic mask
+  cv::Mat labels;        // CV_8U class ids, the frame's labels with Semantic.segmenter: provided
 };
 
 class FrameSource {

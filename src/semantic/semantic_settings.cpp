@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <regex>
 
+#include "common/data_files.h"
 #include "common/error.h"
 #include "common/setting_error.h"
 
@@ -20,29 +21,10 @@ bool SizeFromModelName(const std::string& model, int& width, int& height) {
   return true;
 }
 
-std::string ExecutableDir() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string() : exe.parent_path().string();
-}
-
 }  // namespace
 
 std::string ResolveModelPath(const std::string& path, const std::string& settings_dir) {
-  if (path.empty() || fs::path(path).is_absolute() || fs::exists(path)) return path;
-  std::vector<fs::path> roots;
-  if (!settings_dir.empty()) roots.emplace_back(settings_dir);
-  const std::string exe_dir = ExecutableDir();
-  if (!exe_dir.empty()) {
-    roots.emplace_back(exe_dir);
-    roots.emplace_back(fs::path(exe_dir) / "..");
-    roots.emplace_back(fs::path(exe_dir) / ".." / "..");
-  }
-  for (const auto& root : roots) {
-    const fs::path candidate = root / path;
-    if (fs::exists(candidate)) return fs::weakly_canonical(candidate).string();
-  }
-  return path;
+  return FindDataPath(path, settings_dir);
 }
 
 void SetModel(SemanticSettings& settings, const std::string& path, const std::string& settings_dir) {
@@ -69,12 +51,19 @@ void SemanticSettings::Check() const {
   CheckRange("Semantic.threads", onnx.threads, 0, 256);
   CheckRange("Semantic.segmentEvery", segment_every, 1, 1000, "frames (1 = every frame)");
   CheckRange("Semantic.labelDelay", label_delay_frames, 0, 100, "frames");
+  if (kind == Kind::kProvided) {
+    CheckSetting(segment_every == 1 && mode == SegmentationMode::kEveryFrame, "Semantic.segmentEvery",
+                 "must be 1 (and Semantic.realtime 0) with Semantic.segmenter: provided: every frame brings its labels");
+  }
   if (kind == Kind::kOnnx) onnx.Check();
-  else folder.Check();
+  else if (kind == Kind::kFolder) folder.Check();
 }
 
 std::unique_ptr<Segmenter> MakeSegmenter(const SemanticSettings& settings) {
   if (settings.kind == SemanticSettings::Kind::kFolder) return std::make_unique<FolderSegmenter>(settings.folder);
+  if (settings.kind == SemanticSettings::Kind::kProvided)
+    throw Error("Semantic.segmenter: provided: labels come with each frame, given by the library caller "
+                "(esdslam::System with label_input); a folder run cannot use it");
   return std::make_unique<OnnxSegmenter>(settings.onnx);
 }
 

@@ -20,7 +20,8 @@ inline constexpr const char* kDefaultSegmentationModel = "models/espnetv2_s2.0_v
 inline constexpr const char* kFastSegmentationModel = "models/espnetv2_s2.0_voc_256x192.onnx";
 
 struct SemanticSettings {
-  enum class Kind { kOnnx, kFolder };
+  // kProvided: each frame's labels come from the library caller (semantic/provided_labels.h).
+  enum class Kind { kOnnx, kFolder, kProvided };
   Kind kind = Kind::kOnnx;
   OnnxSegmenterOptions onnx;  // model_path resolved to an existing file when possible
   FolderSegmenterOptions folder;
@@ -43,9 +44,9 @@ struct SemanticSettings {
   void Check() const;
 };
 
-// Finds a model file: absolute or existing as given; else relative to `settings_dir`, the
-// executable's folder and its two parents. Returns
-// `path` unchanged when nothing exists (the segmenter then reports it as missing).
+// Finds a model file: absolute or existing as given; else under `settings_dir` and the data
+// roots (common/data_files.h). Returns `path` unchanged when nothing exists (the segmenter then
+// reports it as missing).
 std::string ResolveModelPath(const std::string& path, const std::string& settings_dir = "");
 
 // Sets the ONNX model (resolved as above) and, if its name ends in _<W>x<H>.onnx, the input size.

@@ -32,6 +32,17 @@ void CheckImageSize(const RgbdFrame& frame, const CameraIntrinsics& camera) {
                           frame.timestamp, frame.bgr.cols, frame.bgr.rows, camera.width, camera.height));
 }
 
+// The caller's dynamic mask (RgbdFrame::dynamic_mask): empty, or CV_8U of the image's size.
+cv::Mat CheckedMask(const RgbdFrame& frame) {
+  const cv::Mat& mask = frame.dynamic_mask;
+  if (mask.empty()) return mask;
+  if (mask.type() != CV_8UC1 || mask.size() != frame.bgr.size())
+    throw Error(fmt::format("frame {:.6f}: the dynamic mask must be CV_8UC1 of the image's size {}x{}, got type {} "
+                            "size {}x{}",
+                            frame.timestamp, frame.bgr.cols, frame.bgr.rows, mask.type(), mask.cols, mask.rows));
+  return mask;
+}
+
 const RunConfig& Checked(const RunConfig& config) {
   config.Check();
   return config;
@@ -51,11 +62,19 @@ KeypointCounts CountKeypoints(const FeatureSet& features) {
 
 Pipeline::Pipeline(const RunConfig& config) : config_(Checked(config)) {
   const RunSettings& settings = config_.settings;
-  if (UsesSegmentation(config_.pipeline.mode))
+  if (UsesSegmentation(config_.pipeline.mode)) {
+    std::unique_ptr<Segmenter> segmenter;
+    if (settings.semantic.kind == SemanticSettings::Kind::kProvided) {
+      provided_labels_ = std::make_shared<ProvidedLabels>();
+      segmenter = std::make_unique<ProvidedLabelsSegmenter>(provided_labels_);
+    } else {
+      segmenter = MakeSegmenter(settings.semantic);
+    }
     masks_ = std::make_unique<MaskAhead>(
-        std::make_unique<SemanticFrontEnd>(settings.semantic, settings.region_growing, settings.mask_dilation_px,
-                                           config_.slam.single_thread),
+        std::make_unique<SemanticFrontEnd>(std::move(segmenter), settings.semantic, settings.region_growing,
+                                           settings.mask_dilation_px, config_.slam.single_thread),
         ThreadedOrInline(!config_.slam.single_thread));
+  }
   system_ = std::make_unique<SlamSystem>(settings.core, config_.slam);
   if (config_.pipeline.dense) {
     dense_poses_ = std::make_unique<SlamKeyframePoses>(&system_->map());
@@ -78,6 +97,14 @@ Pipeline::~Pipeline() {
 
 void Pipeline::SubmitAhead(const RgbdFrame& frame) {
   if (slam_stopped_) throw Error("pipeline: frame submitted after Finish");
+  if (!frame.labels.empty() && !provided_labels_)
+    throw Error(fmt::format("frame {:.6f}: labels given, but the run does not take them (mode {}, Semantic.segmenter "
+                            "is not provided)",
+                            frame.timestamp, ToString(config_.pipeline.mode)));
+  if (provided_labels_ && frame.labels.empty())
+    throw Error(fmt::format("frame {:.6f}: no labels given (Semantic.segmenter: provided needs each frame's labels)",
+                            frame.timestamp));
+  if (provided_labels_) provided_labels_->Put(frame.timestamp, frame.labels);
   if (masks_) masks_->Submit(next_id_, frame.timestamp, frame.bgr, frame.depth_m);
   ++next_id_;
   ahead_.push_back(frame.timestamp);
@@ -100,6 +127,7 @@ FrameReport Pipeline::Track(const RgbdFrame& frame) {
     report.mask = std::move(made.mask);
     report.mask_wait_ms = made.wait_ms;
   }
+  report.mask.mask = Union(report.mask.mask, CheckedMask(frame));
   report.track = system_->TrackRgbd(frame.bgr, frame.depth_m, frame.timestamp, report.mask.mask,
                                     GeometryExempt(report.mask));
   report.features = system_->last_frame().shared_features();

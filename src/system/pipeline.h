@@ -21,7 +21,8 @@
 // Track itself (a live caller without look-ahead simply calls Track). Frames are numbered in
 // submission order (FrameReport::index); they must be tracked in that order.
 // Which frames the network labels is decided by frame id in the semantic stage (LabelSchedule);
-// a user's own dynamic mask would join the mask in step 1.
+// a caller's own dynamic mask (RgbdFrame::dynamic_mask) joins the mask in step 1, and with
+// Semantic.segmenter: provided the caller's labels (RgbdFrame::labels) take the network's place.
 //
 // Threading: all calls from one thread (the tracking thread). The mask, segmentation,
 // local-mapping, loop-closing and dense threads are owned here and stopped by Finish() or the destructor.
@@ -38,6 +39,7 @@
 #include "dynamic/mask_ahead.h"
 #include "dynamic/semantic_front_end.h"
 #include "io/frame_source.h"
+#include "semantic/provided_labels.h"
 #include "system/frame_report.h"
 #include "system/run_config.h"
 #include "system/slam_system.h"
@@ -78,6 +80,7 @@ class Pipeline {
   void AddDenseKeyframe(const RgbdFrame& frame, const cv::Mat& mask, KeyFrame* keyframe);
 
   const RunConfig config_;
+  std::shared_ptr<ProvidedLabels> provided_labels_;  // Semantic.segmenter: provided; else null
   std::unique_ptr<MaskAhead> masks_;  // the semantic stage (dynamic/mask_ahead.h); null without segmentation
   std::unique_ptr<SlamSystem> system_;
   std::unique_ptr<SlamKeyframePoses> dense_poses_;  // before dense_: its worker reads them

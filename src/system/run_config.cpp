@@ -72,8 +72,6 @@ void RunConfig::Check() const {
   CheckSlamAgreesWithSettings(settings, slam);
   if (slam.geometry_check != UsesGeometryCheck(pipeline.mode))
     throw Error(std::string("run config: the geometry check does not match mode ") + ToString(pipeline.mode));
-  if (slam.frame.mask_extraction && !UsesSegmentation(pipeline.mode))
-    throw Error(std::string("run config: masked extraction needs segmentation, not mode ") + ToString(pipeline.mode));
 }
 
 RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags) {
@@ -93,8 +91,9 @@ RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags) {
   slam.loop = config.settings.loop;
   slam.geometry_check = UsesGeometryCheck(flags.mode);
   slam.geometry = config.settings.geometry;
-  // Every-frame mode knows the mask before extraction; real time knows a carried mask.
-  slam.frame.mask_extraction = UsesSegmentation(flags.mode) && flags.mask_extraction;
+  // The mask is known before extraction (made ahead by the semantic stage, or the caller's);
+  // a frame without a mask (modes none and geometry) is extracted everywhere.
+  slam.frame.mask_extraction = flags.mask_extraction;
   slam.load_map = flags.load_map;
   config.pipeline.mode = flags.mode;
   config.pipeline.dense = flags.dense;

@@ -15,8 +15,7 @@
 //   --realtime, --segment-every     the model and its threads when not given (ApplyLabelSchedule)
 //   --seed                          the relocalization PnP RANSAC and loop verification RANSAC seeds
 //   Camera.fps                      slam.tracker.max_frames_between_keyframes (ORB-SLAM2: fps)
-//   --mode                          slam.geometry_check; slam.frame.mask_extraction (with
-//                                   segmentation the mask is known before extraction)
+//   --mode                          slam.geometry_check
 //   --single-thread                 slam.single_thread; pipeline.threaded_dense = false; predicted
 //                                   masks wait for due labels (semantic_front_end.h)
 //   --dense with run.out_dir        pipeline.dense_mask_dir = OUT/masks

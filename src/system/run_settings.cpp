@@ -72,7 +72,9 @@ void RunSettings::Check() const {
 
 SemanticKeys SemanticKeys::From(const SemanticSettings& s) {
   SemanticKeys k;
-  k.segmenter = s.kind == SemanticSettings::Kind::kFolder ? "folder" : "onnx";
+  k.segmenter = s.kind == SemanticSettings::Kind::kFolder     ? "folder"
+                : s.kind == SemanticSettings::Kind::kProvided ? "provided"
+                                                               : "onnx";
   k.model = s.onnx.model_path;
   k.input_width = s.onnx.input_width, k.input_height = s.onnx.input_height;
   k.threads = s.onnx.threads;
@@ -91,7 +93,8 @@ SemanticKeys SemanticKeys::From(const SemanticSettings& s) {
 SemanticSettings SemanticKeys::ToSemanticSettings(const std::string& settings_dir) const {
   SemanticSettings s;
   if (segmenter == "folder") s.kind = SemanticSettings::Kind::kFolder;
-  else CheckSetting(segmenter == "onnx", "Semantic.segmenter", "must be onnx or folder, got '" + segmenter + "'");
+  else if (segmenter == "provided") s.kind = SemanticSettings::Kind::kProvided;
+  else CheckSetting(segmenter == "onnx", "Semantic.segmenter", "must be onnx, folder or provided, got '" + segmenter + "'");
   s.mode = realtime ? SegmentationMode::kNewestWins : SegmentationMode::kEveryFrame;
   s.segment_every = segment_every;
   s.label_delay_frames = label_delay;
@@ -163,17 +166,20 @@ void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
 namespace {
 
 // Reads `path` into `run` through the one key table; returns the key lines. Throws InputError.
+// text: the file's contents when given (then `path` only names it in messages), else read from
+// `path`; base_dir: where relative model and vocabulary paths are looked for first.
 SettingsTable::KeyLines ReadRunSettings(const std::string& path, bool all_optional, RunSettings& run,
-                                        std::vector<std::string>* warnings) {
+                                        std::vector<std::string>* warnings, const std::string* text = nullptr,
+                                        const std::string& base_dir = "") {
   SemanticKeys semantic = SemanticKeys::From(run.semantic);
   semantic.model = "";  // not given: the model follows the label schedule
   semantic.input_width = semantic.input_height = 0;
   SettingsTable table = MakeTable(run, semantic);
   if (all_optional) table.MakeAllOptional();
   SettingsTable::KeyLines lines;
-  std::vector<std::string> load_warnings = table.Load(path, &lines);
+  std::vector<std::string> load_warnings = text ? table.LoadFromString(*text, path, &lines) : table.Load(path, &lines);
   if (warnings) warnings->insert(warnings->end(), load_warnings.begin(), load_warnings.end());
-  const std::string dir = std::filesystem::path(path).parent_path().string();
+  const std::string dir = text ? base_dir : std::filesystem::path(path).parent_path().string();
   CheckWithKeyLines(path, lines, [&] {
     run.semantic = semantic.ToSemanticSettings(dir);
     run.loop.vocabulary = ResolveModelPath(run.loop.vocabulary, dir);
@@ -188,6 +194,14 @@ RunSettings LoadRunSettings(const std::string& path, std::vector<std::string>* w
   RunSettings run;
   const SettingsTable::KeyLines lines = ReadRunSettings(path, false, run, warnings);
   CheckWithKeyLines(path, lines, [&] { run.Check(); });
+  return run;
+}
+
+RunSettings LoadRunSettingsFromText(const std::string& text, const std::string& name, const std::string& base_dir,
+                                    std::vector<std::string>* warnings) {
+  RunSettings run;
+  const SettingsTable::KeyLines lines = ReadRunSettings(name, false, run, warnings, &text, base_dir);
+  CheckWithKeyLines(name, lines, [&] { run.Check(); });
   return run;
 }
 

@@ -4,7 +4,7 @@
 // about once; SaveRunSettings writes every bound key (settings_used.yaml).
 //
 // Semantic.* keys (all optional):
-//   Semantic.segmenter: onnx | folder
+//   Semantic.segmenter: onnx | folder | provided (each frame's labels from the library caller)
 //   Semantic.model: .onnx path (resolved); not given: espnetv2 256x192 with Semantic.segmentEvery
 //     > 1 or realtime, 384x288 with every-frame labels (ApplyLabelSchedule)
 //   Semantic.inputWidth/inputHeight: 0 = from a model name ending in _<W>x<H>.onnx
@@ -78,6 +78,10 @@ void BindDynamicSettings(RunSettings& run, SettingsTable& table);
 // Throws InputError for file/syntax/type errors and failed checks (a value out of its range at
 // the line of its key).
 RunSettings LoadRunSettings(const std::string& path, std::vector<std::string>* warnings = nullptr);
+// The same from the file's text (the library API's SystemConfig::settings_text); `name` is used
+// in messages, relative model and vocabulary paths are looked for in `base_dir` first.
+RunSettings LoadRunSettingsFromText(const std::string& text, const std::string& name, const std::string& base_dir = "",
+                                    std::vector<std::string>* warnings = nullptr);
 
 // The Semantic.* part of a settings file, through the same table (`esdslam segment`): no key is
 // required, only the semantic part is checked. Defaults (default model resolved) when `path`

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "common/data_files.h"
 #include "common/error.h"
 
 namespace esdslam {
@@ -32,6 +33,6 @@ void ViewerOptions::Check() const {
   CheckOption("queue capacity", queue_capacity, std::size_t{1}, std::size_t{16});
 }
 
-std::string ViewerOptions::DefaultWebDir() { return ESDSLAM_WEB_DIR; }
+std::string ViewerOptions::DefaultWebDir() { return FindDataPath("tools/web"); }
 
 }  // namespace esdslam

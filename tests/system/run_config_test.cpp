@@ -84,7 +84,7 @@ TEST(RunConfigTest, ModeAndThreadsDecideTheDerivedOptions) {
   RunConfig config = ResolveRunConfig(file, flags);
   EXPECT_TRUE(config.slam.geometry_check);
   EXPECT_DOUBLE_EQ(config.slam.geometry.check.abs_threshold_m, 0.2);
-  EXPECT_FALSE(config.slam.frame.mask_extraction);  // no segmentation: no mask before extraction
+  EXPECT_TRUE(config.slam.frame.mask_extraction);  // a caller's mask steers extraction in every mode
   EXPECT_TRUE(config.slam.single_thread);
   EXPECT_FALSE(config.pipeline.threaded_dense);
   EXPECT_EQ(config.pipeline.dense_mask_dir, "/tmp/out/masks");
