@@ -62,6 +62,7 @@ install(FILES ${CMAKE_BINARY_DIR}/esdslamConfig.cmake ${CMAKE_BINARY_DIR}/esdsla
         DESTINATION ${config_dir})
 
 set(ESDSLAM_PC_LIBS_PRIVATE "-lceres -lyaml-cpp -lspdlog -lfmt -loctomap -loctomath -lpthread")
+file(RELATIVE_PATH ESDSLAM_PC_PREFIX_FROM_PCDIR ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig ${CMAKE_INSTALL_PREFIX})
 configure_file(cmake/esdslam.pc.in ${CMAKE_BINARY_DIR}/esdslam.pc @ONLY)
 install(FILES ${CMAKE_BINARY_DIR}/esdslam.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 

@@ -1,10 +1,12 @@
 // esdslam::System (include/esdslam/esdslam.h): the per-frame pipeline (system/pipeline.h) behind
 // the public API, with the run's growing output files when out_dir is set.
 #include <atomic>
+#include <mutex>
 #include <filesystem>
 #include <optional>
 
 #include <fmt/format.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "api/api_config.h"
@@ -50,10 +52,26 @@ FrameStats StatsOf(const FrameReport& report) {
   return stats;
 }
 
+// Log lines go to stderr, as the CLI's (stdout is the caller's): spdlog's stock default logger
+// (stdout) is replaced once; a logger the caller installed is kept.
+void LogToStderr() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    const std::shared_ptr<spdlog::logger> current = spdlog::default_logger();
+    for (const spdlog::sink_ptr& sink : current->sinks()) {
+      if (dynamic_cast<spdlog::sinks::stdout_color_sink_mt*>(sink.get()) == nullptr) continue;
+      auto logger = std::make_shared<spdlog::logger>("", std::make_shared<spdlog::sinks::stderr_color_sink_mt>());
+      logger->set_level(current->level());
+      spdlog::set_default_logger(logger);
+      return;
+    }
+  });
+}
+
 }  // namespace
 
 struct System::Impl {
-  explicit Impl(const SystemConfig& api_config) : config(ResolveApiConfig(api_config)) {
+  explicit Impl(const SystemConfig& api_config) : config((LogToStderr(), ResolveApiConfig(api_config))) {
     const std::string& out_dir = config.run.out_dir;
     if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
     LogRunConfig(config);

@@ -47,7 +47,12 @@ std::vector<std::string> DataRoots(const std::string& first_dir) {
     roots.push_back((exe_dir / ".." / "share" / "esdslam").string());
   }
   const fs::path binary_dir = ThisBinaryDir();
-  if (!binary_dir.empty() && binary_dir != exe_dir) roots.push_back((binary_dir / ".." / "share" / "esdslam").string());
+  if (!binary_dir.empty() && binary_dir != exe_dir) {  // a shared library or a Python module
+    roots.push_back((binary_dir / "..").string());
+    roots.push_back((binary_dir / ".." / "..").string());
+    fs::path up = binary_dir;  // lib/ or lib/python3/dist-packages/ under the prefix
+    for (int level = 0; level < 3; ++level) roots.push_back(((up /= "..") / "share" / "esdslam").string());
+  }
   roots.emplace_back(ESDSLAM_INSTALL_DATADIR);
   return roots;
 }

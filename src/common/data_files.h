@@ -8,8 +8,9 @@
 //   3. the running program's folder, its parent and grandparent (a build tree inside the
 //      sources: build/esdslam, build/tests/test_x);
 //   4. <program folder>/../share/esdslam (an installed program);
-//   5. <folder of the binary holding this code>/../share/esdslam (the installed shared library
-//      used by a program installed elsewhere);
+//   5. when this code is in a shared library or a Python module: its folder's parent and
+//      grandparent (build/python/esdslam*.so in a build tree), and share/esdslam one to three
+//      folders up (the installed lib/libesdslam.so, lib/python3/dist-packages/esdslam*.so);
 //   6. the install prefix's share/esdslam as configured at build time (CMAKE_INSTALL_PREFIX).
 // The installed layout keeps the source tree's relative paths: share/esdslam/models/...,
 // share/esdslam/tools/web/..., share/esdslam/config/*.yaml.
