@@ -69,7 +69,14 @@ std::string FindDataPath(const std::string& path, const std::string& first_dir) 
 
 std::string InstalledDataDir() {
   const std::string env = EnvDataDir();
-  return env.empty() ? std::string(ESDSLAM_INSTALL_DATADIR) : env;
+  if (!env.empty()) return env;
+  std::error_code ec;
+  for (const std::string& root : DataRoots()) {  // an install found from the binaries' places
+    const fs::path dir(root);
+    if (dir.filename() == "esdslam" && dir.parent_path().filename() == "share" && fs::is_directory(dir, ec))
+      return fs::weakly_canonical(dir, ec).string();
+  }
+  return ESDSLAM_INSTALL_DATADIR;
 }
 
 }  // namespace esdslam

@@ -26,7 +26,8 @@ std::vector<std::string> DataRoots(const std::string& first_dir = "");
 // (canonical); else `path` unchanged (the caller then reports it as missing, with its name).
 std::string FindDataPath(const std::string& path, const std::string& first_dir = "");
 
-// $ESDSLAM_DATA_DIR when set, else the install prefix's share/esdslam (root 6).
+// $ESDSLAM_DATA_DIR when set, else the first existing share/esdslam among the roots (an
+// installed program, library or module), else the configured install prefix's (root 6).
 std::string InstalledDataDir();
 
 }  // namespace esdslam
