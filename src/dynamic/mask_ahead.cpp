@@ -45,7 +45,7 @@ MaskAheadResult MaskAhead::MaskFor(std::int64_t id, const cv::Mat& bgr, const cv
   Stopwatch wait;
   std::unique_lock<std::mutex> lock(mutex_);
   ready_.wait(lock, [&] { return !failure_.empty() || results_.count(id) > 0; });
-  ThrowIfFailed();
+  if (results_.count(id) == 0) ThrowIfFailed();  // a mask made before a later frame failed is still given
   out.wait_ms = wait.ElapsedMs();
   auto it = results_.find(id);
   out.mask = std::move(it->second);
