@@ -9,15 +9,15 @@
 # pkg-config file; CPack makes a .deb of it (cpack -G DEB in the build folder).
 
 set(ESDSLAM_INSTALL_DATA_DIR ${CMAKE_INSTALL_DATADIR}/esdslam)
-set(ESDSLAM_LIBRARY_STAGES common camera feature io optim robust map place semantic tracking dynamic mapping loop
-    dense system api)
+set(ESDSLAM_LIBRARY_STAGES common camera feature io eval optim robust map place semantic tracking dynamic mapping
+    loop dense system report viewer api)
 set(ESDSLAM_LIBRARY_OBJECTS)
 foreach(stage ${ESDSLAM_LIBRARY_STAGES})
   list(APPEND ESDSLAM_LIBRARY_OBJECTS $<TARGET_OBJECTS:esdslam_${stage}>)
 endforeach()
 # The third-party libraries of those stages (esdslam_base's list, as exportable targets).
 set(ESDSLAM_THIRD_PARTY Eigen3::Eigen ${OpenCV_LIBS} Ceres::ceres yaml-cpp spdlog::spdlog fmt::fmt Threads::Threads
-    ${OCTOMAP_LIBRARIES})
+    ${OCTOMAP_LIBRARIES} ${HTTPLIB_LINK_LIBRARIES})
 
 add_library(esdslam_shared SHARED ${ESDSLAM_LIBRARY_OBJECTS})
 target_link_libraries(esdslam_shared PRIVATE ${ESDSLAM_THIRD_PARTY})
@@ -61,7 +61,7 @@ write_basic_package_version_file(${CMAKE_BINARY_DIR}/esdslamConfigVersion.cmake 
 install(FILES ${CMAKE_BINARY_DIR}/esdslamConfig.cmake ${CMAKE_BINARY_DIR}/esdslamConfigVersion.cmake
         DESTINATION ${config_dir})
 
-set(ESDSLAM_PC_LIBS_PRIVATE "-lceres -lyaml-cpp -lspdlog -lfmt -loctomap -loctomath -lpthread")
+set(ESDSLAM_PC_LIBS_PRIVATE "-lceres -lyaml-cpp -lspdlog -lfmt -loctomap -loctomath -lcpp-httplib -lpthread")
 file(RELATIVE_PATH ESDSLAM_PC_PREFIX_FROM_PCDIR ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig ${CMAKE_INSTALL_PREFIX})
 configure_file(cmake/esdslam.pc.in ${CMAKE_BINARY_DIR}/esdslam.pc @ONLY)
 install(FILES ${CMAKE_BINARY_DIR}/esdslam.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

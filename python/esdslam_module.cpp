@@ -147,12 +147,14 @@ PYBIND11_MODULE(esdslam, m) {
       .def(py::init([](const std::string& settings, const std::string& settings_text, const std::string& mode,
                        int segment_every, bool label_input, std::vector<std::string> label_classes, bool single_thread,
                        bool relocalization, bool loop_closing, std::uint32_t seed, bool dense,
-                       const std::string& load_map, bool localization, const std::string& out_dir) {
+                       const std::string& load_map, bool localization, const std::string& out_dir,
+                       int viewer_port) {
              esdslam::SystemConfig c;
              c.settings_file = settings, c.settings_text = settings_text, c.mode = mode;
              c.segment_every = segment_every, c.label_input = label_input, c.label_classes = std::move(label_classes);
              c.single_thread = single_thread, c.relocalization = relocalization, c.loop_closing = loop_closing;
              c.seed = seed, c.dense = dense, c.load_map = load_map, c.localization = localization, c.out_dir = out_dir;
+             c.viewer_port = viewer_port;
              return std::make_unique<PySystem>(c);
            }),
            py::arg("settings") = "", py::kw_only(), py::arg("settings_text") = "", py::arg("mode") = "full",
@@ -160,7 +162,7 @@ PYBIND11_MODULE(esdslam, m) {
            py::arg("label_classes") = std::vector<std::string>{}, py::arg("single_thread") = false,
            py::arg("relocalization") = true, py::arg("loop_closing") = true, py::arg("seed") = 1,
            py::arg("dense") = false, py::arg("load_map") = "", py::arg("localization") = false,
-           py::arg("out_dir") = "",
+           py::arg("out_dir") = "", py::arg("viewer_port") = -1,
            "Builds the system from a settings file (or settings_text); options as esdslam::SystemConfig")
       .def("track", &PySystem::Track, py::arg("image"), py::arg("depth"), py::arg("timestamp"),
            py::arg("mask") = py::none(), py::arg("labels") = py::none(), py::arg("rgb") = false,
@@ -173,6 +175,7 @@ PYBIND11_MODULE(esdslam, m) {
       .def("keyframes", &PySystem::KeyFrames, "(ids (N,), timestamps (N,), world_from_cam (N, 4, 4))")
       .def("map_points", &PySystem::MapPoints, "positions of the live map points, (N, 3) metres")
       .def("save_map", [](PySystem& s, const std::string& path) { s.slam().SaveMap(path); })
+      .def_property_readonly("viewer_url", [](PySystem& s) { return s.slam().ViewerUrl(); })
       .def_property_readonly("status", [](PySystem& s) { return esdslam::StatusName(s.slam().status()); })
       .def_property_readonly("last_stats", [](const PySystem& s) { return StatsOf(s.last()); })
       .def("effective_settings", [](PySystem& s) { return s.slam().EffectiveSettings(); });

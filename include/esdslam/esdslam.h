@@ -63,6 +63,11 @@ struct SystemConfig {
   // settings_used.yaml and with dense the dense outputs; the first three grow as frames are
   // tracked. Empty = nothing written.
   std::string out_dir;
+  // >= 0: serve the live viewer (camera image with keypoints and masks, trajectory, map) on
+  // http://viewer_address:viewer_port/ while frames are tracked (0 = any free port, ViewerUrl()
+  // says which); -1 = off.
+  int viewer_port = -1;
+  std::string viewer_address = "127.0.0.1";
   void Check() const;  // throws std::runtime_error naming the field
 };
 
@@ -140,6 +145,7 @@ class System {
   std::vector<KeyFrameInfo> KeyFrames() const;  // live keyframes, by id
   std::vector<MapPointInfo> MapPoints() const;  // live map points, by id
   TrackingStatus status() const;
+  std::string ViewerUrl() const;  // empty without the viewer
   // The effective settings (every key, flags applied) as YAML text.
   std::string EffectiveSettings() const;
 

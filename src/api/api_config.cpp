@@ -43,6 +43,9 @@ void SystemConfig::Check() const {
     throw Error("SystemConfig: label_classes is only used with label_input");
   if (label_classes.size() > 256) throw Error("SystemConfig: label_classes holds more than 256 classes (CV_8U ids)");
   if (localization && load_map.empty()) throw Error("SystemConfig: localization needs load_map");
+  if (viewer_port < -1 || viewer_port > 65535)
+    throw Error("SystemConfig: viewer_port must be -1 (off) or a TCP port in [0, 65535], got " +
+                std::to_string(viewer_port));
 }
 
 RunConfig ResolveApiConfig(const SystemConfig& config) {

@@ -18,6 +18,7 @@
 #include "system/pipeline.h"
 #include "system/run_outputs.h"
 #include "system/run_settings.h"
+#include "viewer/live_viewer.h"
 
 namespace esdslam {
 namespace {
@@ -77,6 +78,12 @@ struct System::Impl {
     LogRunConfig(config);
     pipeline = std::make_unique<Pipeline>(config);
     if (!out_dir.empty()) live.emplace(out_dir);
+    if (api_config.viewer_port >= 0) {
+      ViewerOptions options;
+      options.port = api_config.viewer_port;
+      options.address = api_config.viewer_address;
+      viewer = std::make_unique<LiveViewer>(options, &pipeline->system(), pipeline->dense());
+    }
   }
 
   TrackResult Track(RgbdFrame frame);
@@ -85,6 +92,7 @@ struct System::Impl {
   const RunConfig config;
   std::unique_ptr<Pipeline> pipeline;
   std::optional<LiveOutputs> live;  // with out_dir
+  std::unique_ptr<LiveViewer> viewer;  // with viewer_port >= 0; after the pipeline: closed before it
   Callbacks callbacks;
   int loops_closed = 0;
   int relocalizations = 0;
@@ -95,6 +103,7 @@ TrackResult System::Impl::Track(RgbdFrame frame) {
   if (shut_down) throw Error("System::Track after Shutdown");
   const FrameReport report = pipeline->Track(frame);
   if (live) live->Add(report, ReadFrameColumns(report));
+  if (viewer) viewer->Offer(report);  // headers only; encoded on the viewer thread
   TrackResult result;
   result.status = ToStatus(report.track.state);
   result.has_pose = report.track.has_pose;
@@ -142,6 +151,7 @@ void System::Shutdown() {
   impl_->shut_down = true;
   if (impl_->live) WriteRunResults(*impl_->pipeline, *impl_->live, impl_->config.run.out_dir);
   else impl_->pipeline->StopSlam();
+  if (impl_->viewer) impl_->viewer->Finish();  // the final poses and map to the page
 }
 
 void System::SetCallbacks(Callbacks callbacks) { impl_->callbacks = std::move(callbacks); }
@@ -171,6 +181,8 @@ std::vector<MapPointInfo> System::MapPoints() const {
   }
   return points;
 }
+
+std::string System::ViewerUrl() const { return impl_->viewer ? impl_->viewer->url() : std::string(); }
 
 TrackingStatus System::status() const { return ToStatus(impl_->pipeline->system().state()); }
 

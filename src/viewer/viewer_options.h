@@ -29,7 +29,8 @@ struct ViewerOptions {
 
   // Throws Error naming the option of a value outside its range.
   void Check() const;
-  // The tools/web folder of the source tree this program was built from.
+  // The page's folder, tools/web, found as data (common/data_files.h): the source tree beside a
+  // build, or share/esdslam/tools/web of an install.
   static std::string DefaultWebDir();
 };
 

@@ -41,6 +41,9 @@ TEST(SystemConfig, NamesWhatIsWrong) {
   SystemConfig every = WithSettings();
   every.segment_every = -1;
   EXPECT_NE(CheckMessage(every).find("segment_every"), std::string::npos);
+  SystemConfig viewer = WithSettings();
+  viewer.viewer_port = 70000;
+  EXPECT_NE(CheckMessage(viewer).find("viewer_port"), std::string::npos);
   SystemConfig localization = WithSettings();
   localization.localization = true;
   EXPECT_NE(CheckMessage(localization).find("load_map"), std::string::npos);

@@ -149,7 +149,10 @@ TEST(ApiSlow, SettingsTextActsAsTheFile) {
 
 TEST(ApiSlow, MapAccessorsAndSaveLoad) {
   const TumSequence sequence = TumSequence::Open(Sequence());
-  System slam(SingleThread(Sequence() + "/run.yaml"));
+  SystemConfig config = SingleThread(Sequence() + "/run.yaml");
+  config.viewer_port = 0;  // any free port
+  System slam(config);
+  EXPECT_EQ(slam.ViewerUrl().rfind("http://127.0.0.1:", 0), 0u) << slam.ViewerUrl();
   for (const FrameEntry& entry : sequence.frames())
     slam.Track(cv::imread(entry.rgb_path, cv::IMREAD_COLOR), cv::imread(entry.depth_path, cv::IMREAD_UNCHANGED),
                entry.timestamp);
