@@ -28,21 +28,21 @@ GeometryFilter::GeometryFilter(const GeometryFilterOptions& options)
   options_.Check();
 }
 
-GeometryFilterStats GeometryFilter::Apply(Frame* frame) {
+GeometryFilterStats GeometryFilter::Apply(const Frame& frame) {
   Stopwatch watch;
   ThreadCpuStopwatch cpu;
   GeometryFilterStats stats;
-  stats.image_motion_px = ImageMotionSinceLastFrame(*frame);
-  last_frame_id_ = frame->id();
-  last_cam_from_world_ = frame->cam_from_world;
-  const std::vector<KeyFrame*> keyframes = SelectKeyFrames(*frame);
+  stats.image_motion_px = ImageMotionSinceLastFrame(frame);
+  last_frame_id_ = frame.id();
+  last_cam_from_world_ = frame.cam_from_world;
+  const std::vector<KeyFrame*> keyframes = SelectKeyFrames(frame);
   stats.reference_keyframes = static_cast<int>(keyframes.size());
   if (keyframes.empty()) return stats;
   std::vector<std::vector<int>> keypoints;
   const std::vector<ReferenceKeyframe> references = BuildReferences(keyframes, &keypoints);
   const GeometryCheckResult result =
-      CheckMultiViewGeometry(frame->rig().camera, frame->cam_from_world, frame->depth_m(), references, options_.check,
-                             frame->geometry_exempt, stats.image_motion_px);
+      CheckMultiViewGeometry(frame.rig().camera, frame.cam_from_world, frame.depth_m(), references, options_.check,
+                             frame.geometry_exempt, stats.image_motion_px);
   stats.ran = true;
   stats.window_radius_px = result.window_radius_px;
   stats.skipped_fast_motion = result.skipped_fast_motion;
@@ -50,19 +50,24 @@ GeometryFilterStats GeometryFilter::Apply(Frame* frame) {
   stats.covered = static_cast<int>(result.dynamic_points.size());
   stats.vanished = static_cast<int>(result.vanished_points.size());
   stats.mask = result.dynamic_mask;
-  const Flagged flagged = FlagKeypoints(frame, result.dynamic_mask);
-  stats.flagged_keypoints = flagged.keypoints;
+  Flagged flagged = FlagKeypoints(frame, result.dynamic_mask);
+  stats.flagged_keypoints = static_cast<int>(flagged.keypoints.size());
+  stats.flagged = std::move(flagged.keypoints);
   stats.associations_removed = flagged.associations_removed;
   VoteReferencePoints(keyframes, keypoints, result);
-  stats.points_culled = CullMovedPoints(frame, &stats.culled_positions);
+  stats.points_culled = CullMovedPoints(&stats.culled_positions);
   stats.check_ms = watch.ElapsedMs();
   stats.check_cpu_ms = cpu.ElapsedMs();
   return stats;
 }
 
-int GeometryFilterHook::Apply(Frame* frame) {
+MovingKeypoints GeometryFilterHook::FindMoving(const Frame& frame) {
   stats_ = filter_->Apply(frame);
-  return stats_.associations_removed;
+  MovingKeypoints moving;
+  moving.keypoints = stats_.flagged;
+  moving.associations_removed = stats_.associations_removed;
+  moving.points_culled = stats_.points_culled;
+  return moving;
 }
 
 void GeometryFilter::AddKeyFrame(const KeyFrame& keyframe, const Frame& frame) {
@@ -140,22 +145,21 @@ std::vector<ReferenceKeyframe> GeometryFilter::BuildReferences(const std::vector
 }
 
 // Keypoints on the grown mask become dynamic; a map point matched to one of them moved with it.
-GeometryFilter::Flagged GeometryFilter::FlagKeypoints(Frame* frame, const cv::Mat& mask) {
+GeometryFilter::Flagged GeometryFilter::FlagKeypoints(const Frame& frame, const cv::Mat& mask) {
   Flagged flagged;
   if (cv::countNonZero(mask) == 0) return flagged;
-  const FeatureSet& features = frame->features();
-  for (int i = 0; i < frame->size(); ++i) {
+  const FeatureSet& features = frame.features();
+  for (int i = 0; i < frame.size(); ++i) {
     if (features.is_dynamic[i]) continue;
     const cv::Point2f& pt = features.keypoints[i].pt;
     const int u = std::clamp(cvRound(pt.x), 0, mask.cols - 1), v = std::clamp(cvRound(pt.y), 0, mask.rows - 1);
     if (!mask.at<std::uint8_t>(v, u)) continue;
-    MapPoint* point = frame->map_points[i];
+    MapPoint* point = frame.map_points[i];
     if (point != nullptr) {
       ++flagged.associations_removed;
       if (point->num_observations() > 0 && !point->is_bad()) Evidence(point);
     }
-    frame->MarkDynamic(i, kDynamicByGeometry);
-    ++flagged.keypoints;
+    flagged.keypoints.push_back(i);
   }
   return flagged;
 }
@@ -181,7 +185,7 @@ void GeometryFilter::Evidence(MapPoint* point) {
   evidence_points_[point->id()] = point;
 }
 
-int GeometryFilter::CullMovedPoints(Frame* frame, std::vector<Vec3>* positions) {
+int GeometryFilter::CullMovedPoints(std::vector<Vec3>* positions) {
   const std::vector<long> moved = votes_.EndFrame();
   int culled = 0;
   if (options_.cull_after_frames > 0) {
@@ -195,11 +199,6 @@ int GeometryFilter::CullMovedPoints(Frame* frame, std::vector<Vec3>* positions) 
   }
   evidence_points_.clear();
   total_culled_ += culled;
-  if (culled == 0) return 0;
-  for (int i = 0; i < frame->size(); ++i) {
-    MapPoint* point = frame->map_points[i];
-    if (point != nullptr && point->is_bad()) frame->map_points[i] = nullptr;
-  }
   return culled;
 }
 

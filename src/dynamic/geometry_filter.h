@@ -56,7 +56,8 @@ struct GeometryFilterStats {
   double image_motion_px = 0;  // since the previous frame (from the poses), sizes the depth window
   int window_radius_px = 0;
   bool skipped_fast_motion = false;
-  int flagged_keypoints = 0;  // keypoints marked kDynamicByGeometry
+  int flagged_keypoints = 0;  // keypoints found moving (the tracker marks them kDynamicByGeometry)
+  std::vector<int> flagged;   // their indices, ascending
   int associations_removed = 0;
   int points_culled = 0;
   std::vector<Vec3> culled_positions;  // world positions (m) of the points culled (a viewer shows them)
@@ -68,9 +69,10 @@ class GeometryFilter {
   explicit GeometryFilter(const GeometryFilterOptions& options);
 
   // frame: tracked with a first pose and map point associations; caller holds Map::update_mutex.
-  // Flags the moving keypoints and culls moved points; returns what it did on this frame
-  // (associations_removed > 0: the caller re-estimates the pose).
-  GeometryFilterStats Apply(Frame* frame);
+  // Finds the moving keypoints (`flagged`; the frame is not changed) and culls moved points;
+  // returns what it found and did on this frame (associations_removed > 0: the caller
+  // re-estimates the pose).
+  GeometryFilterStats Apply(const Frame& frame);
   // A keyframe just made from `frame`: keeps its depth image for the veto.
   void AddKeyFrame(const KeyFrame& keyframe, const Frame& frame);
 
@@ -79,18 +81,19 @@ class GeometryFilter {
 
  private:
   struct Flagged {
-    int keypoints = 0, associations_removed = 0;
+    std::vector<int> keypoints;
+    int associations_removed = 0;
   };
   std::vector<KeyFrame*> SelectKeyFrames(const Frame& frame) const;
   double ImageMotionSinceLastFrame(const Frame& frame) const;
   // Reference points of each keyframe and the keypoint each came from.
   std::vector<ReferenceKeyframe> BuildReferences(const std::vector<KeyFrame*>& keyframes,
                                                  std::vector<std::vector<int>>* keypoints);
-  Flagged FlagKeypoints(Frame* frame, const cv::Mat& mask);
+  Flagged FlagKeypoints(const Frame& frame, const cv::Mat& mask);
   void VoteReferencePoints(const std::vector<KeyFrame*>& keyframes, const std::vector<std::vector<int>>& keypoints,
                            const GeometryCheckResult& result);
   // Returns the points culled; their world positions are appended to *positions.
-  int CullMovedPoints(Frame* frame, std::vector<Vec3>* positions);
+  int CullMovedPoints(std::vector<Vec3>* positions);
   void Evidence(MapPoint* point);
 
   GeometryFilterOptions options_;
@@ -104,12 +107,12 @@ class GeometryFilter {
 };
 
 // The filter plugged into one Tracker::Track call (tracking's MovingKeypointFilter hook, which
-// returns only the count tracking needs): keeps the statistics GeometryFilter::Apply returned
-// for that call. Make one per frame; stats() is all zero when tracking did not reach the check.
+// returns only what tracking applies): keeps the statistics GeometryFilter::Apply returned for
+// that call. Make one per frame; stats() is all zero when tracking did not reach the check.
 class GeometryFilterHook final : public MovingKeypointFilter {
  public:
   explicit GeometryFilterHook(GeometryFilter* filter) : filter_(filter) {}
-  int Apply(Frame* frame) override;
+  MovingKeypoints FindMoving(const Frame& frame) override;
   void AddKeyFrame(const KeyFrame& keyframe, const Frame& frame) override { filter_->AddKeyFrame(keyframe, frame); }
   const GeometryFilterStats& stats() const { return stats_; }
 

@@ -85,17 +85,6 @@ class KeyFrame {
   // Median depth of the keyframe's map points in its camera frame (m).
   double SceneMedianDepth() const;
 
-  // Scratch fields owned by the tracking thread.
-  struct TrackScratch {
-    long local_for_frame = -1;
-  } track;
-  // Scratch fields owned by the local-mapping thread.
-  struct MappingScratch {
-    long local_ba_for_keyframe = -1;
-    long fixed_ba_for_keyframe = -1;
-    long fuse_target_for_keyframe = -1;
-  } mapping;
-
  private:
   void UpdateOrderedConnections();  // requires mutex_connections_
   void ReassignChildren();

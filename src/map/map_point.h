@@ -66,21 +66,6 @@ class MapPoint {
   void IncreaseFound(int n = 1) { found_ += n; }
   double found_ratio() const { return static_cast<double>(found_) / std::max(1, visible_.load()); }
 
-  // Scratch fields owned by the tracking thread (written and read only there).
-  struct TrackScratch {
-    bool in_view = false;
-    double proj_u = 0, proj_v = 0, proj_right_u = 0;
-    int predicted_level = 0;
-    double view_cos = 0;
-    long last_frame_seen = -1;
-    long local_for_frame = -1;
-  } track;
-  // Scratch fields owned by the local-mapping thread.
-  struct MappingScratch {
-    long local_ba_for_keyframe = -1;
-    long fuse_candidate_for_keyframe = -1;
-  } mapping;
-
  private:
   const long id_;
   const long first_keyframe_id_;

@@ -1,5 +1,6 @@
 // Duplicate fusion between a keyframe and its neighbours (ORB-SLAM2's SearchInNeighbors + Fuse).
 #include <cmath>
+#include <unordered_set>
 
 #include "feature/descriptor.h"
 #include "map/keyframe.h"
@@ -72,11 +73,9 @@ int FusePointsIntoKeyFrame(KeyFrame* keyframe, const std::vector<MapPoint*>& poi
 
 int FuseWithNeighbours(KeyFrame* keyframe, double radius_factor) {
   std::vector<KeyFrame*> targets;
+  std::unordered_set<const KeyFrame*> chosen;
   const auto add_target = [&](KeyFrame* candidate) {
-    if (candidate->is_bad() || candidate == keyframe ||
-        candidate->mapping.fuse_target_for_keyframe == keyframe->id())
-      return;
-    candidate->mapping.fuse_target_for_keyframe = keyframe->id();
+    if (candidate->is_bad() || candidate == keyframe || !chosen.insert(candidate).second) return;
     targets.push_back(candidate);
   };
   const std::vector<KeyFrame*> neighbours = keyframe->BestCovisibleKeyframes(10);
@@ -88,12 +87,10 @@ int FuseWithNeighbours(KeyFrame* keyframe, double radius_factor) {
   for (KeyFrame* target : targets) fused += FusePointsIntoKeyFrame(target, keyframe->valid_map_points(), radius_factor);
 
   std::vector<MapPoint*> candidates;
+  std::unordered_set<const MapPoint*> added;
   for (KeyFrame* target : targets)
-    for (MapPoint* point : target->valid_map_points()) {
-      if (point->mapping.fuse_candidate_for_keyframe == keyframe->id()) continue;
-      point->mapping.fuse_candidate_for_keyframe = keyframe->id();
-      candidates.push_back(point);
-    }
+    for (MapPoint* point : target->valid_map_points())
+      if (added.insert(point).second) candidates.push_back(point);
   fused += FusePointsIntoKeyFrame(keyframe, candidates, radius_factor);
 
   for (MapPoint* point : keyframe->valid_map_points()) {

@@ -1,5 +1,6 @@
 // Local bundle adjustment over the covisible window (ORB-SLAM2's LocalBundleAdjustment).
 #include <map>
+#include <unordered_set>
 
 #include "map/keyframe.h"
 #include "map/map_point.h"
@@ -27,12 +28,10 @@ Window BuildWindow(KeyFrame* keyframe) {
   for (KeyFrame* covisible : keyframe->covisible_keyframes())
     if (!covisible->is_bad() && !index_of.count(covisible)) add_keyframe(covisible, covisible->id() == 0);
   const std::size_t num_local = window.keyframes.size();
+  std::unordered_set<const MapPoint*> added;
   for (std::size_t k = 0; k < num_local; ++k)
-    for (MapPoint* point : window.keyframes[k]->valid_map_points()) {
-      if (point->mapping.local_ba_for_keyframe == keyframe->id()) continue;
-      point->mapping.local_ba_for_keyframe = keyframe->id();
-      window.points.push_back(point);
-    }
+    for (MapPoint* point : window.keyframes[k]->valid_map_points())
+      if (added.insert(point).second) window.points.push_back(point);
   for (MapPoint* point : window.points)
     for (const auto& [observer, index] : point->observations()) {
       (void)index;

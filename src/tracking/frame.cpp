@@ -105,26 +105,26 @@ Frame::Frame(long id, double timestamp, const cv::Mat& image, const cv::Mat& dep
   outlier.assign(n, false);
 }
 
-bool Frame::IsInFrustum(MapPoint* point, double min_view_cos) const {
-  point->track.in_view = false;
+std::optional<PointProjection> Frame::ProjectInFrustum(MapPoint* point, double min_view_cos) const {
   const Vec3 position_world = point->position();
   const Vec3 position_cam = cam_from_world * position_world;
-  if (position_cam.z() <= 0) return false;
+  if (position_cam.z() <= 0) return std::nullopt;
   const PinholeCamera& camera = rig().camera;
   const Vec2 pixel = camera.Project(position_cam);
-  if (!camera.InImage(pixel)) return false;
+  if (!camera.InImage(pixel)) return std::nullopt;
   const Vec3 ray = position_world - camera_center();
   const double distance = ray.norm();
-  if (distance < point->min_distance() || distance > point->max_distance()) return false;
+  if (distance < point->min_distance() || distance > point->max_distance()) return std::nullopt;
   const double view_cos = ray.dot(point->normal()) / distance;
-  if (view_cos < min_view_cos) return false;
-  point->track.in_view = true;
-  point->track.proj_u = pixel.x();
-  point->track.proj_v = pixel.y();
-  point->track.proj_right_u = pixel.x() - rig().bf / position_cam.z();
-  point->track.predicted_level = point->PredictLevel(distance, rig().pyramid.num_levels, rig().pyramid.log_scale_factor);
-  point->track.view_cos = view_cos;
-  return true;
+  if (view_cos < min_view_cos) return std::nullopt;
+  PointProjection projection;
+  projection.point = point;
+  projection.u = pixel.x();
+  projection.v = pixel.y();
+  projection.right_u = pixel.x() - rig().bf / position_cam.z();
+  projection.predicted_level = point->PredictLevel(distance, rig().pyramid.num_levels, rig().pyramid.log_scale_factor);
+  projection.view_cos = view_cos;
+  return projection;
 }
 
 void Frame::MarkDynamic(int i, std::uint8_t reason) {

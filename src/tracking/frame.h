@@ -8,6 +8,7 @@
 // budget is spent on the static area only.
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -28,6 +29,15 @@ struct FrameOptions {
 // as ORB-SLAM2's ThDepth) and the extractor's scale pyramid.
 std::shared_ptr<const RgbdRig> MakeRgbdRig(const CameraIntrinsics& intrinsics, double bf, double th_depth,
                                            const OrbExtractor& extractor);
+
+// Where a map point falls in a frame (see Frame::ProjectInFrustum); pixels undistorted.
+struct PointProjection {
+  MapPoint* point = nullptr;
+  double u = 0, v = 0;     // projection (px)
+  double right_u = 0;      // virtual right-camera u = u - bf / z (px)
+  int predicted_level = 0; // pyramid level predicted from the distance
+  double view_cos = 0;     // cos of the angle between the viewing ray and the point's mean normal
+};
 
 class Frame {
  public:
@@ -54,10 +64,10 @@ class Frame {
   Vec3 camera_center() const { return cam_from_world.inverse().translation(); }
   KeyFrame* reference_keyframe = nullptr;
 
-  // Projects a map point with the current pose and, when it is inside the image, within the
-  // point's scale-invariance distance range and seen at an angle with cos >= min_view_cos to its
-  // mean viewing direction, fills point->track (projection, predicted level) and returns true.
-  bool IsInFrustum(MapPoint* point, double min_view_cos) const;
+  // Projects a map point with the current pose; returns the projection when it is in front of
+  // the camera, inside the image, within the point's scale-invariance distance range and seen at
+  // an angle with cos >= min_view_cos to its mean viewing direction, else nothing.
+  std::optional<PointProjection> ProjectInFrustum(MapPoint* point, double min_view_cos) const;
   // Keypoint count with depth.
   int NumWithDepth() const;
 

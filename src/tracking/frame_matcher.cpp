@@ -45,17 +45,43 @@ std::vector<int> RotationInconsistentMatches(const std::vector<std::pair<float, 
   return discard;
 }
 
-int SearchByProjection(Frame* current, const Frame& last, double radius_px) {
-  const FeatureSet& features = current->features();
+void ApplyMatches(const FrameMatches& matches, Frame* frame) {
+  frame->map_points = matches.map_points;
+  for (int j : matches.matched) frame->outlier[j] = false;
+}
+
+namespace {
+
+// The current frame's candidate keypoints for a point seen at `last_level` in the last frame: by
+// the camera's motion along its axis (RGB-D), the expected level shifts.
+std::vector<int> CandidatesByMotion(const FeatureSet& features, const Vec2& pixel, double radius, int last_level,
+                                    bool forward, bool backward) {
+  if (forward) return features.grid->FeaturesInArea(pixel.x(), pixel.y(), radius, last_level);
+  if (backward) return features.grid->FeaturesInArea(pixel.x(), pixel.y(), radius, 0, last_level);
+  return features.grid->FeaturesInArea(pixel.x(), pixel.y(), radius, last_level - 1, last_level + 1);
+}
+
+// Drops the matches the rotation histogram rejects.
+void DropRotationInconsistent(const std::vector<std::pair<float, int>>& angles, FrameMatches* result) {
+  for (int j : RotationInconsistentMatches(angles)) {
+    result->map_points[j] = nullptr;
+    --result->count;
+  }
+}
+
+}  // namespace
+
+FrameMatches SearchByProjection(const Frame& current, const Frame& last, double radius_px) {
+  const FeatureSet& features = current.features();
   const auto& scale_factors = features.rig->pyramid.scale_factors;
-  const Rigid3 cam_from_world = current->cam_from_world;
-  // Forward/backward motion (RGB-D): the expected level shifts accordingly.
+  const Rigid3& cam_from_world = current.cam_from_world;
   const Vec3 last_center_in_current = cam_from_world * last.camera_center();
   const double baseline = features.rig->bf / features.rig->camera.fx();
   const bool forward = -last_center_in_current.z() > baseline;
   const bool backward = last_center_in_current.z() > baseline;
+  FrameMatches result;
+  result.map_points.assign(current.size(), nullptr);
   std::vector<std::pair<float, int>> angles;
-  int matches = 0;
   for (int i = 0; i < last.size(); ++i) {
     MapPoint* point = last.map_points[i];
     if (point == nullptr || last.outlier[i]) continue;
@@ -65,10 +91,7 @@ int SearchByProjection(Frame* current, const Frame& last, double radius_px) {
     if (!features.rig->camera.InImage(pixel)) continue;
     const int last_level = last.features().level(i);
     const double radius = radius_px * scale_factors[last_level];
-    std::vector<int> candidates;
-    if (forward) candidates = features.grid->FeaturesInArea(pixel.x(), pixel.y(), radius, last_level);
-    else if (backward) candidates = features.grid->FeaturesInArea(pixel.x(), pixel.y(), radius, 0, last_level);
-    else candidates = features.grid->FeaturesInArea(pixel.x(), pixel.y(), radius, last_level - 1, last_level + 1);
+    const std::vector<int> candidates = CandidatesByMotion(features, pixel, radius, last_level, forward, backward);
     if (candidates.empty()) continue;
     const cv::Mat descriptor = point->descriptor();
     if (descriptor.empty()) continue;
@@ -76,43 +99,43 @@ int SearchByProjection(Frame* current, const Frame& last, double radius_px) {
     int best_distance = std::numeric_limits<int>::max(), best = -1;
     for (int j : candidates) {
       if (features.is_dynamic[j]) continue;
-      MapPoint* existing = current->map_points[j];
+      const MapPoint* existing = result.map_points[j];
       if (existing != nullptr && existing->num_observations() > 0) continue;
       if (features.right_u[j] > 0 && std::abs(right_u - features.right_u[j]) > radius) continue;
       const int distance = DescriptorDistance(descriptor.ptr<unsigned char>(0), features.descriptor(j));
       if (distance < best_distance) best_distance = distance, best = j;
     }
     if (best < 0 || best_distance > kDescriptorDistanceHigh) continue;
-    current->map_points[best] = point;
-    current->outlier[best] = false;
+    result.map_points[best] = point;
+    result.matched.push_back(best);
     angles.emplace_back(last.features().keypoints[i].angle - features.keypoints[best].angle, best);
-    ++matches;
+    ++result.count;
   }
-  for (int j : RotationInconsistentMatches(angles)) {
-    current->map_points[j] = nullptr;
-    --matches;
-  }
-  return matches;
+  DropRotationInconsistent(angles, &result);
+  return result;
 }
 
-int SearchLocalPoints(Frame* frame, const std::vector<MapPoint*>& candidates, double radius_factor) {
-  const FeatureSet& features = frame->features();
+FrameMatches SearchLocalPoints(const Frame& frame, const std::vector<PointProjection>& projections,
+                               double radius_factor) {
+  const FeatureSet& features = frame.features();
   const auto& scale_factors = features.rig->pyramid.scale_factors;
-  int matches = 0;
-  for (MapPoint* point : candidates) {
-    if (!point->track.in_view || point->is_bad()) continue;
-    const int level = point->track.predicted_level;
-    const double window = (point->track.view_cos > 0.998 ? 2.5 : 4.0) * radius_factor * scale_factors[level];
-    const auto nearby = features.grid->FeaturesInArea(point->track.proj_u, point->track.proj_v, window, level - 1, level);
+  FrameMatches result;
+  result.map_points = frame.map_points;
+  for (const PointProjection& projection : projections) {
+    MapPoint* point = projection.point;
+    if (point->is_bad()) continue;
+    const int level = projection.predicted_level;
+    const double window = (projection.view_cos > 0.998 ? 2.5 : 4.0) * radius_factor * scale_factors[level];
+    const auto nearby = features.grid->FeaturesInArea(projection.u, projection.v, window, level - 1, level);
     if (nearby.empty()) continue;
     const cv::Mat descriptor = point->descriptor();
     if (descriptor.empty()) continue;
     int best_distance = 256, second_distance = 256, best_level = -1, second_level = -1, best = -1;
     for (int j : nearby) {
       if (features.is_dynamic[j]) continue;
-      MapPoint* existing = frame->map_points[j];
+      const MapPoint* existing = result.map_points[j];
       if (existing != nullptr && existing->num_observations() > 0) continue;
-      if (features.right_u[j] > 0 && std::abs(point->track.proj_right_u - features.right_u[j]) > window) continue;
+      if (features.right_u[j] > 0 && std::abs(projection.right_u - features.right_u[j]) > window) continue;
       const int distance = DescriptorDistance(descriptor.ptr<unsigned char>(0), features.descriptor(j));
       if (distance < best_distance) {
         second_distance = best_distance, second_level = best_level;
@@ -123,16 +146,16 @@ int SearchLocalPoints(Frame* frame, const std::vector<MapPoint*>& candidates, do
     }
     if (best < 0 || best_distance > kDescriptorDistanceHigh) continue;
     if (best_level == second_level && best_distance > 0.8 * second_distance) continue;
-    frame->map_points[best] = point;
-    frame->outlier[best] = false;
-    ++matches;
+    result.map_points[best] = point;
+    result.matched.push_back(best);
+    ++result.count;
   }
-  return matches;
+  return result;
 }
 
-int SearchKeyFrameBruteForce(const KeyFrame& keyframe, Frame* frame) {
+FrameMatches SearchKeyFrameBruteForce(const KeyFrame& keyframe, const Frame& frame) {
   const FeatureSet& kf_features = keyframe.features();
-  const FeatureSet& features = frame->features();
+  const FeatureSet& features = frame.features();
   const std::vector<MapPoint*> kf_points = keyframe.map_points();
   std::vector<int> best_for_frame(features.size(), -1), best_distance_for_frame(features.size(), 256);
   std::vector<std::pair<int, int>> proposals;  // (kf index, frame index)
@@ -153,19 +176,18 @@ int SearchKeyFrameBruteForce(const KeyFrame& keyframe, Frame* frame) {
     }
     proposals.emplace_back(i, best);
   }
+  FrameMatches result;
+  result.map_points.assign(features.size(), nullptr);
   std::vector<std::pair<float, int>> angles;
   for (const auto& [i, j] : proposals) {
     if (best_for_frame[j] != i) continue;  // mutual best only
-    frame->map_points[j] = kf_points[i];
-    frame->outlier[j] = false;
+    result.map_points[j] = kf_points[i];
+    result.matched.push_back(j);
     angles.emplace_back(kf_features.keypoints[i].angle - features.keypoints[j].angle, j);
   }
-  int matches = static_cast<int>(angles.size());
-  for (int j : RotationInconsistentMatches(angles)) {
-    frame->map_points[j] = nullptr;
-    --matches;
-  }
-  return matches;
+  result.count = static_cast<int>(angles.size());
+  DropRotationInconsistent(angles, &result);
+  return result;
 }
 
 }  // namespace esdslam

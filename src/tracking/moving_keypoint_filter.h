@@ -9,18 +9,28 @@
 // (dynamic/geometry_filter.h: GeometryFilterHook).
 // Threading: both calls come from the tracking thread while it holds Map::update_mutex.
 
+#include <vector>
+
 namespace esdslam {
 
 class Frame;
 class KeyFrame;
 
+// What the check found on one frame. The tracker applies it: the keypoints become dynamic
+// (Frame::MarkDynamic drops their associations), associations to culled points are dropped, and
+// when associations were removed the pose is estimated again without them.
+struct MovingKeypoints {
+  std::vector<int> keypoints;    // keypoint indices found moving (not yet dynamic), ascending
+  int associations_removed = 0;  // of those, keypoints associated with a map point
+  int points_culled = 0;         // map points the check set bad (MapPoint::SetBad)
+};
+
 class MovingKeypointFilter {
  public:
   virtual ~MovingKeypointFilter() = default;
-  // frame: tracked with a first pose and map point associations. Marks the keypoints found
-  // moving dynamic (Frame::MarkDynamic, which drops their associations) and returns the number
-  // of associations removed; the tracker then re-estimates the pose without them.
-  virtual int Apply(Frame* frame) = 0;
+  // frame: tracked with a first pose and map point associations; it is not changed (the map's
+  // points may be: moved points are culled).
+  virtual MovingKeypoints FindMoving(const Frame& frame) = 0;
   // A keyframe was just made from `frame` (its features are now shared and immutable).
   virtual void AddKeyFrame(const KeyFrame& keyframe, const Frame& frame) = 0;
 };

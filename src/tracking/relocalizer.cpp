@@ -8,6 +8,7 @@
 #include "map/keyframe.h"
 #include "map/map_point.h"
 #include "tracking/frame_matcher.h"
+#include "tracking/frame_pose.h"
 
 namespace esdslam {
 
@@ -24,28 +25,6 @@ Relocalizer::Relocalizer(PlaceRecognition* places, const RelocalizerOptions& opt
     : places_(places), options_(options) {
   if (places_ == nullptr) throw Error("Relocalizer: null place recognition");
   options_.Check();
-}
-
-int OptimizeFramePose(Frame* frame, const PoseOptimizerOptions& options) {
-  const FeatureSet& features = frame->features();
-  std::vector<PoseObservation> observations;
-  std::vector<int> indices;
-  for (int i = 0; i < frame->size(); ++i) {
-    MapPoint* point = frame->map_points[i];
-    if (point == nullptr) continue;
-    PoseObservation observation;
-    observation.point_world = point->position();
-    observation.pixel = features.pixel(i);
-    observation.right_u = features.right_u[i];
-    observation.information = features.rig->pyramid.inv_level_sigma2[features.level(i)];
-    observation.outlier = frame->outlier[i];
-    observations.push_back(observation);
-    indices.push_back(i);
-  }
-  if (observations.empty()) return 0;
-  const int inliers = OptimizePose(features.rig->camera, features.rig->bf, options, &observations, &frame->cam_from_world);
-  for (std::size_t k = 0; k < indices.size(); ++k) frame->outlier[indices[k]] = observations[k].outlier;
-  return inliers;
 }
 
 namespace {
@@ -69,16 +48,16 @@ int DropOutliers(Frame* frame) {
 // Projects the candidate's points not yet associated and matches them in a window of
 // `radius_factor`; returns the new matches.
 int SearchCandidateByProjection(Frame* frame, KeyFrame* candidate, double radius_factor) {
-  std::vector<MapPoint*> in_view;
+  std::vector<PointProjection> in_view;
   std::vector<MapPoint*> already(frame->map_points);
   std::sort(already.begin(), already.end());
   for (MapPoint* point : candidate->valid_map_points()) {
     if (std::binary_search(already.begin(), already.end(), point)) continue;
-    if (frame->IsInFrustum(point, 0.5)) in_view.push_back(point);
+    if (std::optional<PointProjection> projection = frame->ProjectInFrustum(point, 0.5)) in_view.push_back(*projection);
   }
-  const int matches = SearchLocalPoints(frame, in_view, radius_factor);
-  for (MapPoint* point : in_view) point->track.in_view = false;
-  return matches;
+  const FrameMatches matches = SearchLocalPoints(*frame, in_view, radius_factor);
+  ApplyMatches(matches, frame);
+  return matches.count;
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 // reaching min_final_inliers wins; the frame then holds its pose and inlier associations and the
 // tracker continues with local-map tracking in the same map.
 //
-// Runs on the tracking thread under Map::update_mutex (uses MapPoint::track scratch fields).
+// Runs on the tracking thread under Map::update_mutex.
 
 #include <vector>
 
@@ -59,8 +59,5 @@ class Relocalizer {
   PlaceRecognition* places_;
   RelocalizerOptions options_;
 };
-
-// Motion-only BA on the frame's associations (outlier flags updated); returns the inlier count.
-int OptimizeFramePose(Frame* frame, const PoseOptimizerOptions& options);
 
 }  // namespace esdslam

@@ -8,6 +8,7 @@
 #include "map/keyframe.h"
 #include "map/map_point.h"
 #include "tracking/frame_matcher.h"
+#include "tracking/frame_pose.h"
 #include "tracking/moving_keypoint_filter.h"
 #include "tracking/relocalizer.h"
 
@@ -43,6 +44,7 @@ TrackingResult Tracker::Track(Frame* frame, MovingKeypointFilter* moving_filter)
   TrackingResult result;
   {
     std::lock_guard<std::mutex> lock(map_->update_mutex());
+    seen_this_frame_.clear();
     bool tracked = false;
     if (state_ == TrackingState::kNotInitialized) {
       tracked = Initialize(frame);
@@ -68,6 +70,7 @@ TrackingResult Tracker::Track(Frame* frame, MovingKeypointFilter* moving_filter)
     }
     if (result.new_keyframe != nullptr && moving_filter != nullptr) moving_filter->AddKeyFrame(*result.new_keyframe, *frame);
     Finish(frame, tracked);
+    seen_this_frame_.clear();
     result.state = state_;
     result.has_pose = frame->has_pose;
     result.cam_from_world = frame->cam_from_world;
@@ -148,14 +151,12 @@ void Tracker::UpdateLastFrame() {
 bool Tracker::TrackWithMotionModel(Frame* frame) {
   UpdateLastFrame();
   frame->cam_from_world = velocity_ * last_frame_.cam_from_world;
-  std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);
-  int matches = SearchByProjection(frame, last_frame_, options_.motion_search_radius_px);
-  if (matches < options_.min_motion_matches) {
-    std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);
-    matches = SearchByProjection(frame, last_frame_, 2 * options_.motion_search_radius_px);
-  }
-  if (matches < options_.min_motion_matches) return false;
-  OptimizePose(frame);
+  FrameMatches matches = SearchByProjection(*frame, last_frame_, options_.motion_search_radius_px);
+  if (matches.count < options_.min_motion_matches)
+    matches = SearchByProjection(*frame, last_frame_, 2 * options_.motion_search_radius_px);
+  ApplyMatches(matches, frame);
+  if (matches.count < options_.min_motion_matches) return false;
+  OptimizeFramePose(frame, options_.pose);
   return DiscardOutliers(frame) >= options_.min_pose_matches;
 }
 
@@ -171,58 +172,41 @@ bool Tracker::TrackReferenceKeyFrame(Frame* frame) {
     KeyFrame* last = LiveAncestor(last_keyframe_, &unused);
     if (std::find(candidates.begin(), candidates.end(), last) == candidates.end()) candidates.push_back(last);
   }
-  int best_matches = -1;
-  std::vector<MapPoint*> best_associations;
+  FrameMatches best;
+  best.count = -1;
   for (KeyFrame* candidate : candidates) {
-    std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);
-    const int matches = SearchKeyFrameBruteForce(*candidate, frame);
-    if (matches > best_matches) best_matches = matches, best_associations = frame->map_points;
+    FrameMatches matches = SearchKeyFrameBruteForce(*candidate, *frame);
+    if (matches.count > best.count) best = std::move(matches);
   }
-  frame->map_points = best_associations;
+  frame->map_points = std::move(best.map_points);
   std::fill(frame->outlier.begin(), frame->outlier.end(), false);
-  if (best_matches < 15) return false;
+  if (best.count < 15) return false;
   // Start from the last tracked pose, re-derived from its reference keyframe (which local BA or a
   // loop correction may have moved since).
   Rigid3 cam_from_good_reference = last_good_cam_from_reference_;
   KeyFrame* good_reference = LiveAncestor(last_good_reference_, &cam_from_good_reference);
   frame->cam_from_world = good_reference != nullptr ? cam_from_good_reference * good_reference->cam_from_world()
                                                     : reference_keyframe_->cam_from_world();
-  OptimizePose(frame);
+  OptimizeFramePose(frame, options_.pose);
   return DiscardOutliers(frame) >= options_.min_pose_matches;
 }
 
-// Geometry check on the first pose; without the moving keypoints' matches the pose is estimated
-// again (when enough are left), so that local-map tracking starts from an unbiased pose.
+// Geometry check on the first pose: the keypoints it finds moving become dynamic; without their
+// matches the pose is estimated again (when enough are left), so that local-map tracking starts
+// from an unbiased pose.
 void Tracker::FilterMovingKeypoints(Frame* frame, MovingKeypointFilter* filter) {
-  if (filter->Apply(frame) == 0) return;
+  const MovingKeypoints moving = filter->FindMoving(*frame);
+  for (int i : moving.keypoints) frame->MarkDynamic(i, kDynamicByGeometry);
+  if (moving.points_culled > 0)
+    for (MapPoint*& point : frame->map_points)
+      if (point != nullptr && point->is_bad()) point = nullptr;
+  if (moving.associations_removed == 0) return;
   int kept = 0;
   for (int i = 0; i < frame->size(); ++i)
     kept += frame->map_points[i] != nullptr && !frame->outlier[i] && frame->map_points[i]->num_observations() > 0;
   if (kept < options_.min_pose_matches) return;
-  OptimizePose(frame);
+  OptimizeFramePose(frame, options_.pose);
   DiscardOutliers(frame);
-}
-
-int Tracker::OptimizePose(Frame* frame) {
-  const FeatureSet& features = frame->features();
-  std::vector<PoseObservation> observations;
-  std::vector<int> indices;
-  for (int i = 0; i < frame->size(); ++i) {
-    MapPoint* point = frame->map_points[i];
-    if (point == nullptr) continue;
-    PoseObservation observation;
-    observation.point_world = point->position();
-    observation.pixel = features.pixel(i);
-    observation.right_u = features.right_u[i];
-    observation.information = features.rig->pyramid.inv_level_sigma2[features.level(i)];
-    observation.outlier = frame->outlier[i];
-    observations.push_back(observation);
-    indices.push_back(i);
-  }
-  const int inliers = esdslam::OptimizePose(features.rig->camera, features.rig->bf, options_.pose, &observations,
-                                            &frame->cam_from_world);
-  for (std::size_t k = 0; k < indices.size(); ++k) frame->outlier[indices[k]] = observations[k].outlier;
-  return inliers;
 }
 
 // Drops outlier matches; returns the matches left with real (non-temporary) map points.
@@ -234,8 +218,7 @@ int Tracker::DiscardOutliers(Frame* frame) {
     if (frame->outlier[i]) {
       frame->map_points[i] = nullptr;
       frame->outlier[i] = false;
-      point->track.in_view = false;
-      point->track.last_frame_seen = frame->id();
+      seen_this_frame_.insert(point);
     } else if (point->num_observations() > 0) {
       ++map_matches;
     }

@@ -13,6 +13,7 @@
 // loop closing, global BA); the motion model is a relative motion and needs no correction.
 
 #include <memory>
+#include <unordered_set>
 #include <vector>
 
 #include "map/keyframe_sink.h"
@@ -94,13 +95,12 @@ class Tracker {
   void UpdateLastFrame();
   void FilterMovingKeypoints(Frame* frame, MovingKeypointFilter* filter);
   void ReplaceMovedPointsInLastFrame();
-  int OptimizePose(Frame* frame);
   int DiscardOutliers(Frame* frame);
   void Finish(Frame* frame, bool tracked);
   // Local map (tracker_local_map.cpp).
   bool TrackLocalMap(Frame* frame);
   void UpdateLocalKeyFrames(Frame* frame);
-  void UpdateLocalPoints(const Frame& frame);
+  void UpdateLocalPoints();
   void SearchLocalPoints(Frame* frame);
   bool NeedNewKeyFrame(const Frame& frame) const;
   // Within max_frames_between_keyframes frames after a relocalization (frame ids).
@@ -129,6 +129,9 @@ class Tracker {
   std::vector<KeyFrame*> local_keyframes_;
   std::vector<MapPoint*> local_points_;
   std::vector<std::unique_ptr<MapPoint>> temporary_points_;  // depth points of the last frame
+  // During one Track() call: points matched in the frame when local-map search starts or dropped
+  // as outliers earlier in the call; local-map search does not project them again. Empty between calls.
+  std::unordered_set<const MapPoint*> seen_this_frame_;
   Relocalizer* relocalizer_ = nullptr;
   int relocalizations_ = 0;
 };

@@ -1,19 +1,21 @@
 // Tracker: local-map tracking and keyframe decision / creation.
 #include <algorithm>
 #include <map>
+#include <unordered_set>
 
 #include "map/keyframe.h"
 #include "map/map_point.h"
 #include "tracking/frame_matcher.h"
+#include "tracking/frame_pose.h"
 #include "tracking/tracker.h"
 
 namespace esdslam {
 
 bool Tracker::TrackLocalMap(Frame* frame) {
   UpdateLocalKeyFrames(frame);
-  UpdateLocalPoints(*frame);
+  UpdateLocalPoints();
   SearchLocalPoints(frame);
-  OptimizePose(frame);
+  OptimizeFramePose(frame, options_.pose);
   inliers_ = 0;
   for (int i = 0; i < frame->size(); ++i) {
     MapPoint* point = frame->map_points[i];
@@ -44,18 +46,18 @@ void Tracker::UpdateLocalKeyFrames(Frame* frame) {
   }
   if (counts.empty()) return;
   local_keyframes_.clear();
+  std::unordered_set<const KeyFrame*> chosen;
   KeyFrame* best = nullptr;
   int best_count = 0;
   for (const auto& [keyframe, count] : counts) {
     if (keyframe->is_bad()) continue;
     if (count > best_count) best_count = count, best = keyframe;
     local_keyframes_.push_back(keyframe);
-    keyframe->track.local_for_frame = frame->id();
+    chosen.insert(keyframe);
   }
   const std::vector<KeyFrame*> first_ring = local_keyframes_;
   const auto try_add = [&](KeyFrame* keyframe) {
-    if (keyframe == nullptr || keyframe->is_bad() || keyframe->track.local_for_frame == frame->id()) return false;
-    keyframe->track.local_for_frame = frame->id();
+    if (keyframe == nullptr || keyframe->is_bad() || !chosen.insert(keyframe).second) return false;
     local_keyframes_.push_back(keyframe);
     return true;
   };
@@ -73,16 +75,15 @@ void Tracker::UpdateLocalKeyFrames(Frame* frame) {
   }
 }
 
-void Tracker::UpdateLocalPoints(const Frame& frame) {
+void Tracker::UpdateLocalPoints() {
   local_points_.clear();
+  std::unordered_set<const MapPoint*> added;
   for (KeyFrame* keyframe : local_keyframes_)
-    for (MapPoint* point : keyframe->valid_map_points()) {
-      if (point->track.local_for_frame == frame.id()) continue;
-      point->track.local_for_frame = frame.id();
-      local_points_.push_back(point);
-    }
+    for (MapPoint* point : keyframe->valid_map_points())
+      if (added.insert(point).second) local_points_.push_back(point);
 }
 
+// Projects the local points not yet matched (nor dropped) in this frame and matches those in view.
 void Tracker::SearchLocalPoints(Frame* frame) {
   for (int i = 0; i < frame->size(); ++i) {
     MapPoint* point = frame->map_points[i];
@@ -92,20 +93,19 @@ void Tracker::SearchLocalPoints(Frame* frame) {
       continue;
     }
     point->IncreaseVisible();
-    point->track.last_frame_seen = frame->id();
-    point->track.in_view = false;
+    seen_this_frame_.insert(point);
   }
-  int in_view = 0;
+  std::vector<PointProjection> in_view;
   for (MapPoint* point : local_points_) {
-    if (point->track.last_frame_seen == frame->id() || point->is_bad()) continue;
-    if (frame->IsInFrustum(point, 0.5)) {
+    if (seen_this_frame_.count(point) > 0 || point->is_bad()) continue;
+    if (std::optional<PointProjection> projection = frame->ProjectInFrustum(point, 0.5)) {
       point->IncreaseVisible();
-      ++in_view;
+      in_view.push_back(*projection);
     }
   }
   const double radius_factor = RecentlyRelocalized(*frame, 2) ? options_.relocalized_search_radius_factor
                                                              : options_.local_search_radius_factor;
-  if (in_view > 0) esdslam::SearchLocalPoints(frame, local_points_, radius_factor);
+  if (!in_view.empty()) ApplyMatches(esdslam::SearchLocalPoints(*frame, in_view, radius_factor), frame);
 }
 
 // ORB-SLAM2's RGB-D rule: insert when the frame tracks few close points but could add many, or
