@@ -8,6 +8,7 @@
 #include <opencv2/core/eigen.hpp>
 
 #include "common/error.h"
+#include "robust/refine_on_inliers.h"
 
 namespace esdslam {
 
@@ -125,17 +126,11 @@ PnpRansacResult EstimatePnpRansac(const std::vector<Vec3>& points_world, const s
                                       options.max_iterations,
                                       std::ceil(std::log(1.0 - options.confidence) / std::log(1.0 - all_inliers))));
   }
-  for (int round = 0; round < options.refine_rounds && result.num_inliers >= 4; ++round) {
-    Rigid3 refined = result.cam_from_world;
-    if (!problem.Solve(Indices(result.inliers), false, &refined)) break;
-    const int count = problem.Select(refined, &inliers);
-    if (count < result.num_inliers) break;
-    const bool stable = inliers == result.inliers;
-    result.cam_from_world = refined;
-    result.inliers = inliers;
-    result.num_inliers = count;
-    if (stable) break;
-  }
+  RefineOnInliers(
+      options.refine_rounds, 4,
+      [&](const std::vector<bool>& use, Rigid3* model) { return problem.Solve(Indices(use), false, model); },
+      [&](const Rigid3& model, std::vector<bool>* flags) { return problem.Select(model, flags); },
+      &result.cam_from_world, &result.inliers, &result.num_inliers);
   result.success = result.num_inliers >= options.min_inliers;
   return result;
 }

@@ -7,6 +7,7 @@
 #include <Eigen/SVD>
 
 #include "common/error.h"
+#include "robust/refine_on_inliers.h"
 
 namespace esdslam {
 
@@ -148,17 +149,13 @@ RigidRansacResult EstimateRigidRansac(const std::vector<PointMatch3D>& matches, 
     }
   }
   // Refinement: least squares on the inliers, re-select, until the inlier set is stable.
-  for (int round = 0; round < options.refine_rounds && result.num_inliers >= 3; ++round) {
-    Sim3Transform refined;
-    if (!FitSubset(matches, result.inliers, options.estimate_scale, &refined)) break;
-    const int count = test.Select(matches, refined, &inliers);
-    if (count < result.num_inliers) break;
-    const bool stable = inliers == result.inliers;
-    result.a_from_b = refined;
-    result.inliers = inliers;
-    result.num_inliers = count;
-    if (stable) break;
-  }
+  RefineOnInliers(
+      options.refine_rounds, 3,
+      [&](const std::vector<bool>& use, Sim3Transform* model) {
+        return FitSubset(matches, use, options.estimate_scale, model);
+      },
+      [&](const Sim3Transform& model, std::vector<bool>* flags) { return test.Select(matches, model, flags); },
+      &result.a_from_b, &result.inliers, &result.num_inliers);
   result.success = result.num_inliers >= options.min_inliers;
   return result;
 }

@@ -10,6 +10,15 @@
 #include "tracking/tracker.h"
 
 namespace esdslam {
+namespace {
+
+// Clears the frame's associations to points the mapper has culled since they were made.
+void DropBadAssociations(Frame* frame) {
+  for (MapPoint*& point : frame->map_points)
+    if (point != nullptr && point->is_bad()) point = nullptr;
+}
+
+}  // namespace
 
 bool Tracker::TrackLocalMap(Frame* frame) {
   UpdateLocalKeyFrames(frame);
@@ -31,14 +40,11 @@ bool Tracker::TrackLocalMap(Frame* frame) {
 // Local keyframes: those observing the frame's points, then up to 10 best covisible keyframes,
 // a child and the parent of each. The reference keyframe is the one sharing the most points.
 void Tracker::UpdateLocalKeyFrames(Frame* frame) {
+  DropBadAssociations(frame);
   std::map<KeyFrame*, int, KeyFrameIdLess> counts;
   for (int i = 0; i < frame->size(); ++i) {
     MapPoint* point = frame->map_points[i];
     if (point == nullptr) continue;
-    if (point->is_bad()) {
-      frame->map_points[i] = nullptr;
-      continue;
-    }
     for (const auto& [keyframe, index] : point->observations()) {
       (void)index;
       ++counts[keyframe];
@@ -85,13 +91,10 @@ void Tracker::UpdateLocalPoints() {
 
 // Projects the local points not yet matched (nor dropped) in this frame and matches those in view.
 void Tracker::SearchLocalPoints(Frame* frame) {
+  DropBadAssociations(frame);
   for (int i = 0; i < frame->size(); ++i) {
     MapPoint* point = frame->map_points[i];
     if (point == nullptr) continue;
-    if (point->is_bad()) {
-      frame->map_points[i] = nullptr;
-      continue;
-    }
     point->IncreaseVisible();
     seen_this_frame_.insert(point);
   }
