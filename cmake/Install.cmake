@@ -17,7 +17,7 @@ foreach(stage ${ESDSLAM_LIBRARY_STAGES})
 endforeach()
 # The third-party libraries of those stages (esdslam_base's list, as exportable targets).
 set(ESDSLAM_THIRD_PARTY Eigen3::Eigen ${OpenCV_LIBS} Ceres::ceres yaml-cpp spdlog::spdlog fmt::fmt Threads::Threads
-    ${OCTOMAP_LIBRARIES} ${HTTPLIB_LINK_LIBRARIES})
+    ${OCTOMAP_LIBRARIES} ${HTTPLIB_LINK_LIBRARIES} ${DEFLATE_LINK_LIBRARIES})
 
 add_library(esdslam_shared SHARED ${ESDSLAM_LIBRARY_OBJECTS})
 target_link_libraries(esdslam_shared PRIVATE ${ESDSLAM_THIRD_PARTY})
@@ -61,7 +61,7 @@ write_basic_package_version_file(${CMAKE_BINARY_DIR}/esdslamConfigVersion.cmake 
 install(FILES ${CMAKE_BINARY_DIR}/esdslamConfig.cmake ${CMAKE_BINARY_DIR}/esdslamConfigVersion.cmake
         DESTINATION ${config_dir})
 
-set(ESDSLAM_PC_LIBS_PRIVATE "-lceres -lyaml-cpp -lspdlog -lfmt -loctomap -loctomath -lcpp-httplib -lpthread")
+set(ESDSLAM_PC_LIBS_PRIVATE "-lceres -lyaml-cpp -lspdlog -lfmt -loctomap -loctomath -lcpp-httplib -ldeflate -lpthread")
 file(RELATIVE_PATH ESDSLAM_PC_PREFIX_FROM_PCDIR ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig ${CMAKE_INSTALL_PREFIX})
 configure_file(cmake/esdslam.pc.in ${CMAKE_BINARY_DIR}/esdslam.pc @ONLY)
 install(FILES ${CMAKE_BINARY_DIR}/esdslam.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
@@ -71,7 +71,7 @@ set(CPACK_PACKAGE_VENDOR "ESD-SLAM")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "RGB-D SLAM that stays accurate when people walk through the scene")
 set(CPACK_PACKAGE_CONTACT "ESD-SLAM developers")
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "libopencv-dev, libeigen3-dev, libceres-dev, libyaml-cpp-dev, libspdlog-dev, libfmt-dev, liboctomap-dev")
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "libopencv-dev, libeigen3-dev, libceres-dev, libyaml-cpp-dev, libspdlog-dev, libfmt-dev, liboctomap-dev, libdeflate-dev")
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_GENERATOR DEB)
 include(CPack)

@@ -5,13 +5,13 @@
 # association file and lists derived from it, a trajectory, and a map and a vocabulary written
 # by the library. Any crash, hang (> 10 s per input), leak, sanitizer report or allocation over
 # 2 GB fails the script; the input is kept in build-fuzz/findings/<target>/.
-# Usage: tools/fuzz.sh [target ...]   (targets: settings sequence_lists trajectory map_file vocabulary)
+# Usage: tools/fuzz.sh [target ...]   (targets: settings sequence_lists trajectory map_file vocabulary png)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${ESDSLAM_FUZZ_SECONDS:-20}"
 jobs="${ESDSLAM_JOBS:-$(nproc)}"
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(settings sequence_lists trajectory map_file vocabulary)
+[ ${#targets[@]} -gt 0 ] || targets=(settings sequence_lists trajectory map_file vocabulary png)
 flags="-O1 -g1 -fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=undefined"
 args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$flags"
       -DESDSLAM_BUILD_TESTS=OFF -DESDSLAM_BUILD_BENCHMARKS=OFF -DESDSLAM_BUILD_FUZZERS=ON)
@@ -28,7 +28,7 @@ cmake --build build-fuzz -j "$jobs" --target "${targets[@]/%/_fuzzer}"
 
 seeds=build-fuzz/seeds
 rm -rf "$seeds" build-fuzz/corpus
-mkdir -p "$seeds"/{settings,sequence_lists,trajectory,map_file,vocabulary}
+mkdir -p "$seeds"/{settings,sequence_lists,trajectory,map_file,vocabulary,png}
 cp config/*.yaml tests/data/orbslam/*.yaml "$seeds/settings/"
 associations=tests/data/orbslam/fr1_rpy_dev_associations.txt
 # sequence_lists: the first byte picks the file (0 rgb.txt, 1 depth.txt, 2 association file).
@@ -40,6 +40,7 @@ head -60 "$associations" | awk '{printf "%s %.4f 0.0100 -0.0200 0 0 %.4f 1\n", $
   > "$seeds/trajectory/trajectory.txt"
 ESDSLAM_FUZZ_WRITE_SEED="$seeds/map_file/map.bin" build-fuzz/fuzz/map_file_fuzzer 2>/dev/null || true
 ESDSLAM_FUZZ_WRITE_SEED="$seeds/vocabulary/vocabulary.bin" build-fuzz/fuzz/vocabulary_fuzzer 2>/dev/null || true
+ESDSLAM_FUZZ_WRITE_SEED="$seeds/png" build-fuzz/fuzz/png_fuzzer 2>/dev/null || true
 
 status=0
 for target in "${targets[@]}"; do

@@ -9,7 +9,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   build-essential cmake ninja-build pkg-config git \
   libeigen3-dev libopencv-dev libceres-dev liboctomap-dev \
   libyaml-cpp-dev libspdlog-dev libfmt-dev libcli11-dev libtbb-dev \
-  libgtest-dev libgmock-dev libbenchmark-dev libopenni2-dev libcpp-httplib-dev pybind11-dev python3-dev \
+  libgtest-dev libgmock-dev libbenchmark-dev libopenni2-dev libcpp-httplib-dev libdeflate-dev pybind11-dev python3-dev \
   clang libfuzzer-14-dev \
   python3 python3-numpy python3-torch python3-onnx python3-pil \
   chromium \

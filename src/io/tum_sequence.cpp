@@ -10,6 +10,7 @@
 
 #include "common/error.h"
 #include "io/associate.h"
+#include "io/png_decoder.h"
 #include "io/text_lines.h"
 
 namespace esdslam {
@@ -158,7 +159,7 @@ namespace {
 
 cv::Mat LoadColour(const std::string& path) {
   if (!fs::is_regular_file(path)) throw InputError(path, 0, "colour image not found");
-  cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
+  cv::Mat image = ReadImageUnchanged(path);
   if (image.empty()) throw InputError(path, 0, "cannot decode colour image");
   if (image.depth() != CV_8U) throw InputError(path, 0, "colour image must be 8-bit");
   cv::Mat bgr;
@@ -173,7 +174,7 @@ cv::Mat LoadColour(const std::string& path) {
 
 cv::Mat LoadDepthMetres(const std::string& path, double depth_map_factor) {
   if (!fs::is_regular_file(path)) throw InputError(path, 0, "depth image not found");
-  const cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+  const cv::Mat raw = ReadImageUnchanged(path);
   if (raw.empty()) throw InputError(path, 0, "cannot decode depth image");
   if (raw.type() != CV_16UC1) throw InputError(path, 0, "depth image must be 16-bit single channel");
   cv::Mat depth_m;
