@@ -32,6 +32,9 @@ void TrackerOptions::Check() const {
   if (min_local_map_inliers < 3 || min_pose_matches < 3 || relocalized_min_inliers < 3)
     throw Error("tracker: inlier thresholds must be >= 3");
   if (!(relocalized_search_radius_factor > 0)) throw Error("tracker: relocalized_search_radius_factor must be positive");
+  if (min_motion_matches < 3) throw Error("tracker: min_motion_matches must be >= 3");
+  if (max_local_keyframes < 1) throw Error("tracker: max_local_keyframes must be >= 1");
+  if (max_depth_points < 0) throw Error("tracker: max_depth_points must be >= 0");
   pose.Check();
 }
 

@@ -350,6 +350,9 @@ TEST(TrackerOptionsTest, CheckRejectsOutOfRangeValues) {
       [](TrackerOptions* o) { o->relocalized_search_radius_factor = 0; },
       [](TrackerOptions* o) { o->motion_search_radius_px = std::nan(""); },
       [](TrackerOptions* o) { o->pose.rounds = 0; },
+      [](TrackerOptions* o) { o->min_motion_matches = 2; },
+      [](TrackerOptions* o) { o->max_local_keyframes = 0; },
+      [](TrackerOptions* o) { o->max_depth_points = -1; },
   };
   Map map;
   for (std::size_t k = 0; k < breakers.size(); ++k) {
@@ -363,6 +366,9 @@ TEST(TrackerOptionsTest, CheckRejectsOutOfRangeValues) {
   boundary.min_initial_depth_keypoints = 1;
   boundary.max_frames_between_keyframes = 1;
   boundary.min_local_map_inliers = boundary.min_pose_matches = boundary.relocalized_min_inliers = 3;
+  boundary.min_motion_matches = 3;
+  boundary.max_local_keyframes = 1;
+  boundary.max_depth_points = 0;
   EXPECT_NO_THROW(boundary.Check());
 }
 
