@@ -4,7 +4,6 @@
 //
 //   build/benchmarks/png_decode_bench ../shared/data/bonn_crowd_dev/rgb ../shared/data/bonn_crowd_dev/depth
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -12,15 +11,10 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "common/timer.h"
 #include "io/png_decoder.h"
 
 namespace {
-
-double ThreadCpuMs() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
 
 bool Same(const cv::Mat& a, const cv::Mat& b) {
   return a.type() == b.type() && a.size() == b.size() && (a.empty() || cv::norm(a, b, cv::NORM_INF) == 0);
@@ -44,13 +38,12 @@ int main(int argc, char** argv) {
     double opencv_ms = 0.0, ours_ms = 0.0;
     int differing = 0;
     for (const std::string& file : files) {
-      const double t0 = ThreadCpuMs();
+      esdslam::ThreadCpuStopwatch cpu;
       const cv::Mat reference = cv::imread(file, cv::IMREAD_UNCHANGED);
-      const double t1 = ThreadCpuMs();
+      opencv_ms += cpu.ElapsedMs();
+      cpu.Restart();
       const cv::Mat decoded = esdslam::ReadImageUnchanged(file);
-      const double t2 = ThreadCpuMs();
-      opencv_ms += t1 - t0;
-      ours_ms += t2 - t1;
+      ours_ms += cpu.ElapsedMs();
       if (!Same(reference, decoded)) ++differing;
     }
     const double n = static_cast<double>(files.size());

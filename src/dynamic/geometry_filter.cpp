@@ -51,8 +51,7 @@ GeometryFilterStats GeometryFilter::Apply(const Frame& frame) {
   stats.vanished = static_cast<int>(result.vanished_points.size());
   stats.mask = result.dynamic_mask;
   Flagged flagged = FlagKeypoints(frame, result.dynamic_mask);
-  stats.flagged_keypoints = static_cast<int>(flagged.keypoints.size());
-  stats.flagged = std::move(flagged.keypoints);
+  stats.flagged_keypoints = std::move(flagged.keypoints);
   stats.associations_removed = flagged.associations_removed;
   VoteReferencePoints(keyframes, keypoints, result);
   stats.points_culled = CullMovedPoints(&stats.culled_positions);
@@ -64,7 +63,7 @@ GeometryFilterStats GeometryFilter::Apply(const Frame& frame) {
 MovingKeypoints GeometryFilterHook::FindMoving(const Frame& frame) {
   stats_ = filter_->Apply(frame);
   MovingKeypoints moving;
-  moving.keypoints = stats_.flagged;
+  moving.keypoints = stats_.flagged_keypoints;
   moving.associations_removed = stats_.associations_removed;
   moving.points_culled = stats_.points_culled;
   return moving;

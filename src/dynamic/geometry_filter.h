@@ -56,8 +56,7 @@ struct GeometryFilterStats {
   double image_motion_px = 0;  // since the previous frame (from the poses), sizes the depth window
   int window_radius_px = 0;
   bool skipped_fast_motion = false;
-  int flagged_keypoints = 0;  // keypoints found moving (the tracker marks them kDynamicByGeometry)
-  std::vector<int> flagged;   // their indices, ascending
+  std::vector<int> flagged_keypoints;  // found moving, ascending (the tracker marks them kDynamicByGeometry)
   int associations_removed = 0;
   int points_culled = 0;
   std::vector<Vec3> culled_positions;  // world positions (m) of the points culled (a viewer shows them)
@@ -69,7 +68,7 @@ class GeometryFilter {
   explicit GeometryFilter(const GeometryFilterOptions& options);
 
   // frame: tracked with a first pose and map point associations; caller holds Map::update_mutex.
-  // Finds the moving keypoints (`flagged`; the frame is not changed) and culls moved points;
+  // Finds the moving keypoints (`flagged_keypoints`; the frame is not changed) and culls moved points;
   // returns what it found and did on this frame (associations_removed > 0: the caller
   // re-estimates the pose).
   GeometryFilterStats Apply(const Frame& frame);

@@ -127,6 +127,11 @@ std::optional<PointProjection> Frame::ProjectInFrustum(MapPoint* point, double m
   return projection;
 }
 
+void Frame::DropBadAssociations() {
+  for (MapPoint*& point : map_points)
+    if (point != nullptr && point->is_bad()) point = nullptr;
+}
+
 void Frame::MarkDynamic(int i, std::uint8_t reason) {
   if (features_.use_count() != 1) throw Error("Frame::MarkDynamic: the features are already shared with a keyframe");
   if (i < 0 || i >= size() || reason == 0) throw Error("Frame::MarkDynamic: bad keypoint index or reason");

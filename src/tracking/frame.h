@@ -70,6 +70,8 @@ class Frame {
   std::optional<PointProjection> ProjectInFrustum(MapPoint* point, double min_view_cos) const;
   // Keypoint count with depth.
   int NumWithDepth() const;
+  // Clears the associations to map points set bad (culled) since they were made.
+  void DropBadAssociations();
 
   // The depth image the frame was built from (CV_32F metres, raw pixel grid; shared, not copied).
   const cv::Mat& depth_m() const { return depth_m_; }

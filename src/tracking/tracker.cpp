@@ -200,9 +200,7 @@ bool Tracker::TrackReferenceKeyFrame(Frame* frame) {
 void Tracker::FilterMovingKeypoints(Frame* frame, MovingKeypointFilter* filter) {
   const MovingKeypoints moving = filter->FindMoving(*frame);
   for (int i : moving.keypoints) frame->MarkDynamic(i, kDynamicByGeometry);
-  if (moving.points_culled > 0)
-    for (MapPoint*& point : frame->map_points)
-      if (point != nullptr && point->is_bad()) point = nullptr;
+  if (moving.points_culled > 0) frame->DropBadAssociations();
   if (moving.associations_removed == 0) return;
   int kept = 0;
   for (int i = 0; i < frame->size(); ++i)

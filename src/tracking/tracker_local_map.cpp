@@ -10,15 +10,6 @@
 #include "tracking/tracker.h"
 
 namespace esdslam {
-namespace {
-
-// Clears the frame's associations to points the mapper has culled since they were made.
-void DropBadAssociations(Frame* frame) {
-  for (MapPoint*& point : frame->map_points)
-    if (point != nullptr && point->is_bad()) point = nullptr;
-}
-
-}  // namespace
 
 bool Tracker::TrackLocalMap(Frame* frame) {
   UpdateLocalKeyFrames(frame);
@@ -40,7 +31,7 @@ bool Tracker::TrackLocalMap(Frame* frame) {
 // Local keyframes: those observing the frame's points, then up to 10 best covisible keyframes,
 // a child and the parent of each. The reference keyframe is the one sharing the most points.
 void Tracker::UpdateLocalKeyFrames(Frame* frame) {
-  DropBadAssociations(frame);
+  frame->DropBadAssociations();
   std::map<KeyFrame*, int, KeyFrameIdLess> counts;
   for (int i = 0; i < frame->size(); ++i) {
     MapPoint* point = frame->map_points[i];
@@ -91,7 +82,7 @@ void Tracker::UpdateLocalPoints() {
 
 // Projects the local points not yet matched (nor dropped) in this frame and matches those in view.
 void Tracker::SearchLocalPoints(Frame* frame) {
-  DropBadAssociations(frame);
+  frame->DropBadAssociations();
   for (int i = 0; i < frame->size(); ++i) {
     MapPoint* point = frame->map_points[i];
     if (point == nullptr) continue;

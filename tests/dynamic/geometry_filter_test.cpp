@@ -78,7 +78,7 @@ FilterRun RunWithFilter(Masks masks, int frames = kFrames) {
     // The check's statistics are this call's value: they describe this frame's flags.
     int geometry_flags = 0;
     for (const std::uint8_t flag : frame.features().is_dynamic) geometry_flags += flag == kDynamicByGeometry;
-    EXPECT_EQ(hook.stats().flagged_keypoints, geometry_flags) << "frame " << i;
+    EXPECT_EQ(static_cast<int>(hook.stats().flagged_keypoints.size()), geometry_flags) << "frame " << i;
     if (!hook.stats().ran) {
       EXPECT_EQ(geometry_flags, 0) << "frame " << i;
     }

@@ -65,7 +65,7 @@ TEST(PipelineTest, RunLoopReportsEveryFrameOnce) {
     const KeypointCounts counts = CountKeypoints(*r.features);
     EXPECT_EQ(r.keypoints.total, counts.total);
     EXPECT_EQ(r.keypoints.dynamic, counts.dynamic);
-    EXPECT_EQ(r.keypoints.by_geometry, r.track.geometry.flagged_keypoints) << i;
+    EXPECT_EQ(r.keypoints.by_geometry, static_cast<int>(r.track.geometry.flagged_keypoints.size())) << i;
     EXPECT_EQ(r.bgr.data, frames[i].bgr.data);  // shared, not copied
     masked += r.mask.dynamic_fraction > 0;
     EXPECT_TRUE(std::filesystem::exists(fmt::format("{}/{:.6f}.png", debug_dir, r.timestamp)));
