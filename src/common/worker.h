@@ -38,6 +38,7 @@
 
 #include "common/bounded_queue.h"
 #include "common/error.h"
+#include "common/thread_name.h"
 
 namespace esdslam {
 
@@ -69,6 +70,7 @@ class Worker {
     if (mode_ != WorkerMode::kThread || started_ || closed_) return;
     started_ = true;
     thread_ = std::thread([this] {
+      NameThisThread(name_);
       while (std::optional<Job> job = queue_.Pop()) Handle(*job);
     });
   }

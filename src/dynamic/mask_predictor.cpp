@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
 #include "dynamic/mask_dilation.h"
+#include "dynamic/mask_refine.h"
 
 namespace esdslam {
 namespace {
@@ -35,22 +35,13 @@ cv::Mat CleanUp(const cv::Mat& mask, int radius_px) {
 }
 
 // Nearest-neighbour upsampling of a CV_8U image; exact integer factors (the usual case: 640x480
-// from 320x240) copy each pixel into its block directly, which is several times cheaper than
+// from 160x120) copy each pixel into its block (EnlargeNearest), several times cheaper than
 // cv::resize.
 cv::Mat UpsampleNearest(const cv::Mat& small, cv::Size size) {
   const int fx = size.width / small.cols, fy = size.height / small.rows;
-  if (fx * small.cols != size.width || fy * small.rows != size.height) {
-    cv::Mat out;
-    cv::resize(small, out, size, 0, 0, cv::INTER_NEAREST);
-    return out;
-  }
-  cv::Mat out(size, CV_8U);
-  for (int y = 0; y < small.rows; ++y) {
-    const std::uint8_t* in = small.ptr<std::uint8_t>(y);
-    std::uint8_t* row = out.ptr<std::uint8_t>(y * fy);
-    for (int x = 0; x < small.cols; ++x) std::memset(row + x * fx, in[x], static_cast<std::size_t>(fx));
-    for (int k = 1; k < fy; ++k) std::memcpy(out.ptr<std::uint8_t>(y * fy + k), row, static_cast<std::size_t>(size.width));
-  }
+  if (fx == fy && fx * small.cols == size.width && fy * small.rows == size.height) return EnlargeNearest(small, fx, size);
+  cv::Mat out;
+  cv::resize(small, out, size, 0, 0, cv::INTER_NEAREST);
   return out;
 }
 

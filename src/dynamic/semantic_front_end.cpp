@@ -13,15 +13,28 @@ namespace {
 
 cv::Mat Dilate(const cv::Mat& mask, int radius_px) { return DilateEllipse(mask, radius_px); }
 
+// A full-resolution pixel distance at reduction `scale`, rounded (at least 1 where it was).
+int Scaled(int px, int scale) { return px <= 0 ? px : std::max(1, (px + scale / 2) / scale); }
+
 // Region growing decides the boundary band; the network's interior (mask eroded by
-// kCoreErosionPx) stays dynamic even where growth did not reach it (parts split off by an
-// occluder, depth steps inside a person).
+// kCoreErosionPx full-resolution pixels) stays dynamic even where growth did not reach it (parts
+// split off by an occluder, depth steps inside a person).
 constexpr int kCoreErosionPx = 3;
-cv::Mat KeepMaskCore(cv::Mat refined, const cv::Mat& raw_mask) {
+cv::Mat KeepMaskCore(cv::Mat refined, const cv::Mat& raw_mask, int scale) {
+  const int radius = Scaled(kCoreErosionPx, scale);
   cv::Mat core;
-  cv::erode(raw_mask, core, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kCoreErosionPx + 1, 2 * kCoreErosionPx + 1)));
+  cv::erode(raw_mask, core, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1)));
   refined.setTo(255, core);
   return refined;
+}
+
+// The growing options' pixel distances and areas for the image reduced by `scale`.
+RegionGrowingOptions ScaledGrowing(RegionGrowingOptions options, int scale) {
+  options.seed_erosion_px = Scaled(options.seed_erosion_px, scale);
+  options.growth_band_px = Scaled(options.growth_band_px, scale);
+  options.no_depth_dilation_px = Scaled(options.no_depth_dilation_px, scale);
+  options.min_component_px /= scale * scale;
+  return options;
 }
 
 std::optional<LabelSchedule> MakeSchedule(const SemanticSettings& settings) {
@@ -62,18 +75,19 @@ cv::Mat WarpMask(const cv::Mat& mask, const cv::Mat& depth_a, const Rigid3& b_fr
 }
 
 SemanticFrontEnd::SemanticFrontEnd(const SemanticSettings& settings, const RegionGrowingOptions& growing,
-                                   int mask_dilation_px, bool wait_for_due_labels)
-    : SemanticFrontEnd(MakeSegmenter(settings), settings, growing, mask_dilation_px, wait_for_due_labels) {}
+                                   const MaskRefineOptions& refine, bool wait_for_due_labels)
+    : SemanticFrontEnd(MakeSegmenter(settings), settings, growing, refine, wait_for_due_labels) {}
 
 SemanticFrontEnd::SemanticFrontEnd(std::unique_ptr<Segmenter> segmenter, const SemanticSettings& settings,
-                                   const RegionGrowingOptions& growing, int mask_dilation_px,
+                                   const RegionGrowingOptions& growing, const MaskRefineOptions& refine,
                                    bool wait_for_due_labels)
     : groups_(settings.groups, settings.onnx.class_names),
       growing_(growing),
-      mask_dilation_px_(mask_dilation_px),
+      refine_(refine),
       wait_for_due_labels_(wait_for_due_labels),
       schedule_(MakeSchedule(settings)) {
   growing_.Check();
+  refine_.Check();
   // The front end submits only the frames it wants labelled, at most one in flight in
   // predicted mode: the worker segments every submitted frame, in order.
   SegmentationWorkerOptions options;
@@ -165,16 +179,21 @@ void SemanticFrontEnd::AddDueLabels(std::int64_t id, DynamicMaskResult& out) {
   }
 }
 
+// Region growing, core and dilation on the image reduced by refine_.scale; the mask enlarged to
+// the image size at the end.
 void SemanticFrontEnd::Refine(const SemanticMasks& masks, const cv::Mat& depth_m, DynamicMaskResult& out) const {
+  const int scale = refine_.scale;
   Stopwatch grow;
   ThreadCpuStopwatch grow_cpu;
-  cv::Mat refined = RefineDynamicMask(masks.dynamic, depth_m, growing_);
+  const cv::Mat class_mask = ReduceMaskAny(masks.dynamic, scale);
+  cv::Mat refined = RefineDynamicMask(class_mask, SubsampleDepth(depth_m, scale), ScaledGrowing(growing_, scale));
   out.grow_ms = grow.ElapsedMs();
   out.grow_cpu_ms = grow_cpu.ElapsedMs();
-  out.mask = Dilate(KeepMaskCore(refined, masks.dynamic), mask_dilation_px_);
+  const cv::Mat small = Dilate(KeepMaskCore(refined, class_mask, scale), Scaled(refine_.dilation_px, scale));
+  out.mask = EnlargeNearest(small, scale, masks.dynamic.size());
   out.potentially_dynamic = masks.potentially_dynamic;
   out.static_objects = masks.static_objects;
-  out.dynamic_fraction = static_cast<double>(cv::countNonZero(out.mask)) / std::max<int>(1, out.mask.total());
+  out.dynamic_fraction = static_cast<double>(cv::countNonZero(small)) / std::max<int>(1, small.total());
 }
 
 }  // namespace esdslam

@@ -16,7 +16,8 @@
 //     dense map start there, and people there must be masked.
 // Either way the mask goes through the same refinement: dynamic mask = RefineDynamicMask(dynamic-
 // class mask, current depth) plus the class mask's interior (eroded by 3 px), dilated by
-// mask_dilation_px (Dynamic.maskDilation). A predicted mask steers the extractor's keypoint
+// MaskRefineOptions::dilation_px (Dynamic.maskDilation), all of it on the image reduced by
+// MaskRefineOptions::scale (Dynamic.refineScale) and enlarged back at the end. A predicted mask steers the extractor's keypoint
 // budget exactly as a fresh one does (it is the same DynamicMaskResult).
 //
 // Threading: all calls from one thread (the mask thread of dynamic/mask_ahead.h, or the tracking
@@ -33,6 +34,7 @@
 #include "common/geometry.h"
 #include "dynamic/label_schedule.h"
 #include "dynamic/mask_predictor.h"
+#include "dynamic/mask_refine.h"
 #include "dynamic/region_growing.h"
 #include "semantic/class_groups.h"
 #include "semantic/segmentation_worker.h"
@@ -61,11 +63,12 @@ struct DynamicMaskResult {
 class SemanticFrontEnd {
  public:
   // wait_for_due_labels: predicted mode waits for due labels (single-thread runs: deterministic).
-  SemanticFrontEnd(const SemanticSettings& settings, const RegionGrowingOptions& growing, int mask_dilation_px = 0,
-                   bool wait_for_due_labels = false);
+  SemanticFrontEnd(const SemanticSettings& settings, const RegionGrowingOptions& growing,
+                   const MaskRefineOptions& refine = {}, bool wait_for_due_labels = false);
   // The same with a given segmenter (tests).
   SemanticFrontEnd(std::unique_ptr<Segmenter> segmenter, const SemanticSettings& settings,
-                   const RegionGrowingOptions& growing, int mask_dilation_px = 0, bool wait_for_due_labels = false);
+                   const RegionGrowingOptions& growing, const MaskRefineOptions& refine = {},
+                   bool wait_for_due_labels = false);
   ~SemanticFrontEnd();
 
   // Frame `id` is loaded (ids increase): every frame mode segments it; predicted mode when the
@@ -86,7 +89,7 @@ class SemanticFrontEnd {
 
   ClassGroups groups_;
   RegionGrowingOptions growing_;
-  int mask_dilation_px_;
+  MaskRefineOptions refine_;
   bool wait_for_due_labels_;
   std::optional<LabelSchedule> schedule_;        // predicted mode only
   std::unique_ptr<MaskPredictor> predictor_;     // predicted mode, made at the first frame

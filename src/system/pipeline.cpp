@@ -72,7 +72,7 @@ Pipeline::Pipeline(const RunConfig& config) : config_(Checked(config)) {
     }
     masks_ = std::make_unique<MaskAhead>(
         std::make_unique<SemanticFrontEnd>(std::move(segmenter), settings.semantic, settings.region_growing,
-                                           settings.mask_dilation_px, config_.slam.single_thread),
+                                           settings.mask_refine, config_.slam.single_thread),
         ThreadedOrInline(!config_.slam.single_thread));
   }
   system_ = std::make_unique<SlamSystem>(settings.core, config_.slam);

@@ -61,7 +61,7 @@ SettingsTable MakeTable(RunSettings& run, SemanticKeys& semantic) {
 
 void RunSettings::Check() const {
   core.Check();
-  CheckRange("Dynamic.maskDilation", mask_dilation_px, 0, 200, "px");
+  mask_refine.Check();
   CheckRange("Sequence.maxConsecutiveBadFrames", max_consecutive_bad_frames, 1, 100000, "frames");
   region_growing.Check("Dynamic.grow.");
   geometry.Check();
@@ -139,7 +139,8 @@ void BindSemanticSettings(SemanticKeys& k, SettingsTable& table) {
 }
 
 void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
-  table.Add("Dynamic.maskDilation", &run.mask_dilation_px);
+  table.Add("Dynamic.maskDilation", &run.mask_refine.dilation_px);
+  table.Add("Dynamic.refineScale", &run.mask_refine.scale);
   table.Add("Sequence.maxConsecutiveBadFrames", &run.max_consecutive_bad_frames);
   BindGrowing("Dynamic.grow.", run.region_growing, table);
   GeometryCheckOptions& g = run.geometry.check;

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "dense/dense_options.h"
+#include "dynamic/mask_refine.h"
 #include "dynamic/region_growing.h"
 #include "io/settings.h"
 #include "semantic/semantic_settings.h"
@@ -39,7 +40,7 @@ struct RunSettings {
   RegionGrowingOptions region_growing;
   GeometryFilterOptions geometry;  // the multi-view geometry check in tracking (modes geometry, full)
   DenseOptions dense;
-  int mask_dilation_px = 10;  // Dynamic.maskDilation: final dynamic mask grown by this (px) for tracking
+  MaskRefineOptions mask_refine{10, 2};  // Dynamic.maskDilation (px), Dynamic.refineScale: the class mask -> dynamic mask
   // Sequence.maxConsecutiveBadFrames: unreadable frames are skipped with a warning, this many in
   // a row stop the run with an error (io/frame_source.h). 1..100000.
   int max_consecutive_bad_frames = 10;

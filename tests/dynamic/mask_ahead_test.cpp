@@ -59,7 +59,7 @@ SemanticSettings Settings(int segment_every) {
 std::unique_ptr<MaskAhead> MakeStage(int segment_every, WorkerMode mode, double fail_at = -1) {
   // wait_for_due_labels: the masks do not depend on the network's timing, so both modes compare.
   auto front_end = std::make_unique<SemanticFrontEnd>(std::make_unique<SquareSegmenter>(fail_at),
-                                                      Settings(segment_every), RegionGrowingOptions{}, 0, true);
+                                                      Settings(segment_every), RegionGrowingOptions{}, MaskRefineOptions{}, true);
   return std::make_unique<MaskAhead>(std::move(front_end), mode);
 }
 

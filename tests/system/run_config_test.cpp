@@ -109,7 +109,10 @@ TEST(RunConfigTest, CheckRejectsOutOfRangeValuesAndDisagreeingParts) {
   flags.localization = true;  // needs a map to load
   EXPECT_THROW(ResolveRunConfig(file, flags), Error);
   RunSettings bad = file;
-  bad.mask_dilation_px = -1;
+  bad.mask_refine.dilation_px = -1;
+  EXPECT_THROW(ResolveRunConfig(bad, RunFlags{}), Error);
+  bad = file;
+  bad.mask_refine.scale = 0;
   EXPECT_THROW(ResolveRunConfig(bad, RunFlags{}), Error);
 
   const RunConfig good = ResolveRunConfig(file, RunFlags{});
