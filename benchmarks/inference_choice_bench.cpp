@@ -1,6 +1,7 @@
 // Cheaper inference (issue 12, item 4): time and accuracy of each network configuration.
 //
 //   inference_choice_bench [--model FILE:WxH]... [--crop FILE:WxH]... [--int8 FILE:WxH]... [--threads 1,2]
+//                          [--resize separable,opencv] [--resize-ab FILE:WxH]... [--rounds N]
 //                          [--sequence DIR] [--labels DIR] [--step N] [--crop-lag N] [--crop-margin PX]
 //
 // For every model and OpenCV thread count: CPU time of the process per Segment() call (resize,
@@ -20,13 +21,23 @@
 // graph's reshapes are fixed to batch 1, so the calibration batch is one frame); CPU time of the
 // network alone (one OpenCV thread) against the float network, and agreement of the argmax labels
 // with the float network at network resolution on the frames above.
-// Defaults: the three committed models, threads 1 and 2, ../shared/data/bonn_crowd_dev, step 10.
+// --resize: which Resize layers the network runs with, each in turn for every model and thread
+// count: "separable" (OnnxSegmenter's default, semantic/resize_layer.h) and/or "opencv" (OpenCV
+// DNN's own layer).
+// --resize-ab: the model twice, with OpenCV's and the separable Resize, one OpenCV thread, calls
+// interleaved frame by frame (which goes first alternates) for --rounds passes over the frames, so
+// that both see the same machine load: CPU time of the calling thread per Segment() call (median
+// and mean), and the pixels whose labels differ. Only this table is printed when given alone.
+// Defaults: the three committed models, threads 1 and 2, separable Resize, ../shared/data/bonn_crowd_dev,
+// step 10.
 #include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/dnn.hpp>
@@ -64,15 +75,17 @@ ModelSpec ParseModel(const std::string& spec) {
 }
 
 struct Args {
-  std::vector<ModelSpec> models, crops, int8;
+  std::vector<ModelSpec> models, crops, int8, resize_ab;
   std::vector<int> threads{1, 2};
+  std::vector<std::string> resize{"separable"};
   std::string sequence = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/bonn_crowd_dev";
   std::string labels = "/work/cache/labels/bonn_crowd_dev";
-  int step = 10, crop_lag = 5, crop_margin = 48;
+  int step = 10, crop_lag = 5, crop_margin = 48, rounds = 2;
 };
 
-std::unique_ptr<OnnxSegmenter> MakeSegmenter(const ModelSpec& model, int threads) {
+std::unique_ptr<OnnxSegmenter> MakeSegmenter(const ModelSpec& model, int threads, bool separable_resize = true) {
   OnnxSegmenterOptions options;
+  options.separable_resize = separable_resize;
   options.model_path = model.path;
   options.input_width = model.width;
   options.input_height = model.height;
@@ -226,8 +239,50 @@ void ReportInt8(const ModelSpec& model, const std::vector<Frame>& frames) {
   std::fflush(stdout);
 }
 
+// Median and mean of `values` (not empty).
+std::pair<double, double> MedianAndMean(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  double sum = 0;
+  for (double v : values) sum += v;
+  return {values[values.size() / 2], sum / static_cast<double>(values.size())};
+}
+
+void ReportResizeAb(const ModelSpec& model, const std::vector<Frame>& frames, int rounds) {
+  std::unique_ptr<OnnxSegmenter> segmenters[2] = {MakeSegmenter(model, 1, false), MakeSegmenter(model, 1, true)};
+  for (auto& segmenter : segmenters) segmenter->Segment(frames.front().bgr, 0.0);  // warm-up
+  std::vector<double> cpu_ms[2];
+  double differing = 0, pixels = 0;
+  for (int round = 0; round < rounds; ++round) {
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      cv::Mat labels[2];
+      const std::size_t first = (i + static_cast<std::size_t>(round)) % 2;
+      for (std::size_t k : {first, 1 - first}) {
+        ThreadCpuStopwatch watch;
+        labels[k] = segmenters[k]->Segment(frames[i].bgr, 0.0).labels;
+        cpu_ms[k].push_back(watch.ElapsedMs());
+      }
+      differing += cv::countNonZero(labels[0] != labels[1]);
+      pixels += static_cast<double>(labels[0].total());
+    }
+  }
+  const auto [opencv_median, opencv_mean] = MedianAndMean(cpu_ms[0]);
+  const auto [separable_median, separable_mean] = MedianAndMean(cpu_ms[1]);
+  std::printf("| %s | %dx%d | %zu | %.1f | %.1f | %.1f | %.1f | %.0f of %.0f |\n", model.Name().c_str(), model.width,
+              model.height, cpu_ms[0].size(), opencv_median, separable_median, opencv_mean, separable_mean, differing,
+              pixels);
+  std::fflush(stdout);
+}
+
 void Run(const Args& args) {
   const std::vector<Frame> frames = LoadFrames(args);
+  if (!args.resize_ab.empty()) {
+    std::printf("Resize layers, OpenCV's against separable, 1 thread, calls interleaved: CPU ms of the calling thread "
+                "per Segment() call\n\n| model | input | calls each | OpenCV median | separable median | OpenCV mean | "
+                "separable mean | label pixels differing |\n|---|---|---|---|---|---|---|---|\n");
+    for (const ModelSpec& model : args.resize_ab) ReportResizeAb(model, frames, args.rounds);
+    if (args.models.empty() && args.crops.empty() && args.int8.empty()) return;
+    std::printf("\n");
+  }
   const ModelSpec reference_model{std::string(ESDSLAM_SOURCE_DIR) + "/models/espnetv2_s2.0_voc_384x384.onnx", 384, 384};
   std::vector<cv::Mat> reference;
   {
@@ -236,16 +291,17 @@ void Run(const Args& args) {
   }
   std::printf("%zu frames of %s (every %d-th); accuracy against %s on them\n\n", frames.size(), args.sequence.c_str(),
               args.step, reference_model.Name().c_str());
-  std::printf("| model | input | crop | threads | CPU ms / call | wall ms / call | person IoU | person recall | "
-              "labels = reference frames | crop area |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| model | input | crop | resize | threads | CPU ms / call | wall ms / call | person IoU | "
+              "person recall | labels = reference frames | crop area |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
   auto report = [&](const ModelSpec& model, bool crop) {
-    for (int threads : args.threads) {
-      auto segmenter = MakeSegmenter(model, threads);
+    for (int threads : args.threads) for (const std::string& resize : args.resize) {
+      auto segmenter = MakeSegmenter(model, threads, resize == "separable");
       segmenter->Segment(frames.front().bgr, 0.0);  // warm-up
       const Score s = Evaluate(*segmenter, model, frames, reference, crop, args.crop_margin);
       const double agreement = crop ? -1 : ReferenceAgreement(*segmenter);
-      std::printf("| %s | %dx%d | %s | %d | %.1f | %.1f | %.3f | %.3f | %s | %.2f |\n", model.Name().c_str(), model.width,
-                  model.height, crop ? "yes" : "no", threads, s.cpu_ms / s.calls, s.wall_ms / s.calls,
+      std::printf("| %s | %dx%d | %s | %s | %d | %.1f | %.1f | %.3f | %.3f | %s | %.2f |\n", model.Name().c_str(),
+                  model.width, model.height, crop ? "yes" : "no", resize.c_str(), threads, s.cpu_ms / s.calls,
+                  s.wall_ms / s.calls,
                   s.iou / std::max(1, s.iou_frames), s.covered_px / std::max(1.0, s.truth_px),
                   agreement < 0 ? "-" : cv::format("%.4f", agreement).c_str(), s.crop_area / s.calls);
       std::fflush(stdout);
@@ -268,12 +324,21 @@ Args Parse(int argc, char** argv) {
     if (flag == "--model") args.models.push_back(ParseModel(value));
     else if (flag == "--crop") args.crops.push_back(ParseModel(value));
     else if (flag == "--int8") args.int8.push_back(ParseModel(value));
+    else if (flag == "--resize-ab") args.resize_ab.push_back(ParseModel(value));
+    else if (flag == "--rounds") args.rounds = std::stoi(value);
     else if (flag == "--sequence") args.sequence = value;
     else if (flag == "--labels") args.labels = value;
     else if (flag == "--step") args.step = std::stoi(value);
     else if (flag == "--crop-lag") args.crop_lag = std::stoi(value);
     else if (flag == "--crop-margin") args.crop_margin = std::stoi(value);
-    else if (flag == "--threads") {
+    else if (flag == "--resize") {
+      args.resize.clear();
+      std::stringstream list(value);
+      for (std::string r; std::getline(list, r, ',');) {
+        if (r != "separable" && r != "opencv") throw Error("--resize: separable or opencv, got " + r);
+        args.resize.push_back(r);
+      }
+    } else if (flag == "--threads") {
       args.threads.clear();
       std::stringstream list(value);
       for (std::string t; std::getline(list, t, ',');) args.threads.push_back(std::stoi(t));
@@ -281,13 +346,14 @@ Args Parse(int argc, char** argv) {
       throw Error("unknown flag " + flag);
     }
   }
-  if (args.models.empty() && args.crops.empty() && args.int8.empty()) {
+  if (args.models.empty() && args.crops.empty() && args.int8.empty() && args.resize_ab.empty()) {
     const std::string dir = std::string(ESDSLAM_SOURCE_DIR) + "/models/";
     args.models = {{dir + "espnetv2_s2.0_voc_256x192.onnx", 256, 192},
                    {dir + "espnetv2_s2.0_voc_384x288.onnx", 384, 288},
                    {dir + "espnetv2_s2.0_voc_384x384.onnx", 384, 384}};
   }
-  if (args.step < 1 || args.crop_lag < 0 || args.crop_margin < 0) throw Error("--step >= 1, --crop-lag, --crop-margin >= 0");
+  if (args.step < 1 || args.crop_lag < 0 || args.crop_margin < 0 || args.rounds < 1)
+    throw Error("--step, --rounds >= 1, --crop-lag, --crop-margin >= 0");
   return args;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
@@ -9,6 +10,7 @@
 #include "common/error.h"
 #include "common/setting_error.h"
 #include "common/timer.h"
+#include "semantic/resize_layer.h"
 #include "semantic/score_upsampling.h"
 
 namespace esdslam {
@@ -44,6 +46,9 @@ OnnxSegmenter::OnnxSegmenter(OnnxSegmenterOptions options) : options_(std::move(
   if (!std::filesystem::is_regular_file(options_.model_path))
     throw InputError(options_.model_path, 0, "segmentation model file not found");
   try {
+    // The separable Resize is registered for this import only (the importer creates every layer).
+    std::optional<ScopedSeparableResize> separable;
+    if (options_.separable_resize) separable.emplace();
     net_ = cv::dnn::readNetFromONNX(options_.model_path);
   } catch (const cv::Exception& e) {
     throw InputError(options_.model_path, 0, fmt::format("OpenCV DNN cannot load the ONNX model: {}", e.what()));
@@ -51,12 +56,14 @@ OnnxSegmenter::OnnxSegmenter(OnnxSegmenterOptions options) : options_(std::move(
   if (net_.empty()) throw InputError(options_.model_path, 0, "OpenCV DNN loaded an empty network");
   net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
   net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  for (const std::string& name : net_.getLayerNames())
+    separable_resize_layers_ += IsSeparableResize(*net_.getLayer(name)) ? 1 : 0;
   if (options_.threads > 0) cv::setNumThreads(options_.threads);
   scores_layer_ = FinalUpsampleInput();
   // A test run checks that the model matches the configured input size and class count.
   Scores(cv::Mat(options_.input_height, options_.input_width, CV_8UC3, cv::Scalar::all(127)));
-  spdlog::info("segmenter: {} ({}x{} input, {} classes)", options_.model_path, options_.input_width,
-               options_.input_height, options_.class_names.size());
+  spdlog::info("segmenter: {} ({}x{} input, {} classes, {} separable Resize layers)", options_.model_path,
+               options_.input_width, options_.input_height, options_.class_names.size(), separable_resize_layers_);
 }
 
 std::string OnnxSegmenter::FinalUpsampleInput() {

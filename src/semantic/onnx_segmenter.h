@@ -17,6 +17,8 @@
 // A network that ends with a bilinear align-corners Resize to its input size (ESPNetv2) is run
 // up to that layer's input; the upsampling is done by UpsampleAlignCorners
 // (semantic/score_upsampling.h): the same scores, about 10 % of the network time less at 256x192.
+// The network's other bilinear Resize layers (the decoder's) run as the separable layer of
+// semantic/resize_layer.h (separable_resize): the same scores up to float rounding.
 
 #include <array>
 #include <memory>
@@ -41,6 +43,9 @@ struct OnnxSegmenterOptions {
   int person_class = kVocPersonClass;  // -1: no person probability
   bool compute_person_probability = true;
   bool upsample_scores = true;
+  // Load the model's bilinear Resize layers as the separable layer (semantic/resize_layer.h)
+  // instead of OpenCV's own; false: OpenCV's layers throughout (for comparisons).
+  bool separable_resize = true;
   // Semantic.threads: > 0 calls cv::setNumThreads(threads) when the segmenter is created. Note
   // that OpenCV's thread count is process-wide. 0 leaves OpenCV's setting untouched.
   int threads = 0;
@@ -63,6 +68,8 @@ class OnnxSegmenter : public Segmenter {
   const OnnxSegmenterOptions& options() const { return options_; }
   // True when the final Resize is done by UpsampleAlignCorners (see scores_layer_).
   bool upsamples_scores_itself() const { return !scores_layer_.empty(); }
+  // How many of the network's layers are the separable Resize (0 without separable_resize).
+  int separable_resize_layers() const { return separable_resize_layers_; }
 
  private:
   cv::Mat MakeBlob(const cv::Mat& bgr) const;
@@ -76,6 +83,7 @@ class OnnxSegmenter : public Segmenter {
   // ends with a Resize that it reproduces (checked on a noise image at load); empty: the
   // network's output as it is.
   std::string scores_layer_;
+  int separable_resize_layers_ = 0;
 };
 
 // Argmax over score planes (all the same size, CV_32FC1) -> CV_8UC1 labels.
