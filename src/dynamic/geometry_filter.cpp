@@ -107,10 +107,7 @@ std::vector<KeyFrame*> GeometryFilter::SelectKeyFrames(const Frame& frame) const
   for (int i = 0; i < frame.size(); ++i) {
     MapPoint* point = frame.map_points[i];
     if (point == nullptr || frame.outlier[i] || point->is_bad()) continue;
-    for (const auto& [keyframe, index] : point->observations()) {
-      (void)index;
-      ++shared[keyframe];
-    }
+    for (KeyFrame* keyframe : point->observing_keyframes()) ++shared[keyframe];
   }
   std::vector<KeyFrame*> candidates;
   std::vector<int> counts;

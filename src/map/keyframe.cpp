@@ -74,10 +74,8 @@ int KeyFrame::TrackedMapPoints(int min_observations) const {
 void KeyFrame::UpdateConnections(int min_weight) {
   std::map<KeyFrame*, int, KeyFrameIdLess> counts;
   for (MapPoint* point : valid_map_points())
-    for (const auto& [other, index] : point->observations()) {
-      (void)index;
+    for (KeyFrame* other : point->observing_keyframes())
       if (other != this && !other->is_bad()) ++counts[other];
-    }
   if (counts.empty()) return;
   KeyFrame* best = nullptr;
   int best_weight = 0;

@@ -56,6 +56,14 @@ std::map<KeyFrame*, int, KeyFrameIdLess> MapPoint::observations() const {
   return observations_;
 }
 
+std::vector<KeyFrame*> MapPoint::observing_keyframes() const {
+  std::lock_guard<std::mutex> lock(mutex_observations_);
+  std::vector<KeyFrame*> keyframes;
+  keyframes.reserve(observations_.size());
+  for (const auto& observation : observations_) keyframes.push_back(observation.first);
+  return keyframes;
+}
+
 void MapPoint::AddObservation(KeyFrame* keyframe, int keypoint_index, bool with_depth) {
   std::lock_guard<std::mutex> lock(mutex_observations_);
   if (observations_.count(keyframe)) return;

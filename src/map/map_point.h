@@ -11,6 +11,7 @@
 #include <atomic>
 #include <map>
 #include <mutex>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -36,6 +37,10 @@ class MapPoint {
 
   // Observations.
   std::map<KeyFrame*, int, KeyFrameIdLess> observations() const;
+  // The observing keyframes alone, in the same (id) order: one allocation instead of a tree copy,
+  // for the hot loops that only count keyframes (tracking's local map, the geometry check's
+  // references, covisibility, local BA).
+  std::vector<KeyFrame*> observing_keyframes() const;
   void AddObservation(KeyFrame* keyframe, int keypoint_index, bool with_depth);
   // Removes the observation; flags the point bad when fewer than 2 weighted observations remain.
   void EraseObservation(KeyFrame* keyframe);

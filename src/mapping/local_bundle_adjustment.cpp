@@ -33,10 +33,8 @@ Window BuildWindow(KeyFrame* keyframe) {
     for (MapPoint* point : window.keyframes[k]->valid_map_points())
       if (added.insert(point).second) window.points.push_back(point);
   for (MapPoint* point : window.points)
-    for (const auto& [observer, index] : point->observations()) {
-      (void)index;
+    for (KeyFrame* observer : point->observing_keyframes())
       if (!observer->is_bad() && !index_of.count(observer)) add_keyframe(observer, true);
-    }
   for (std::size_t p = 0; p < window.points.size(); ++p) {
     window.problem.points.push_back({window.points[p]->position(), false});
     for (const auto& [observer, index] : window.points[p]->observations()) {

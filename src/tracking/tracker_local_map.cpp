@@ -36,10 +36,7 @@ void Tracker::UpdateLocalKeyFrames(Frame* frame) {
   for (int i = 0; i < frame->size(); ++i) {
     MapPoint* point = frame->map_points[i];
     if (point == nullptr) continue;
-    for (const auto& [keyframe, index] : point->observations()) {
-      (void)index;
-      ++counts[keyframe];
-    }
+    for (KeyFrame* keyframe : point->observing_keyframes()) ++counts[keyframe];
   }
   if (counts.empty()) return;
   local_keyframes_.clear();
