@@ -47,8 +47,8 @@ int RunSynth(const SynthArgs& args) {
 
 RunFn SetupSynth(CLI::App& app) {
   auto args = std::make_shared<SynthArgs>();
-  app.add_option("--preset", args->preset, "static | dynamic | loop | orbit | corridor (loop-closing benchmark) | moved_box")
-      ->check(CLI::IsMember({"static", "dynamic", "loop", "orbit", "corridor"}))
+  app.add_option("--preset", args->preset, "static | dynamic | loop | orbit | corridor (loop-closing benchmark) | moved_box | occlusion (people close to the camera, blocked sensor)")
+      ->check(CLI::IsMember({"static", "dynamic", "loop", "orbit", "corridor", "moved_box", "occlusion"}))
       ->capture_default_str();
   app.add_option("--out", args->out_dir, "Output folder (TUM layout)")->required();
   app.add_option("--frames", args->frames, "Number of frames (default: preset's; static/dynamic 240, loop 450)")

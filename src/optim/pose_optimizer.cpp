@@ -50,9 +50,38 @@ int ResetFlags(const Rigid3& cam_from_world, std::vector<PoseObservation>* obser
   return inliers;
 }
 
+// The prior's residual (pose_optimizer.h) with its Jacobian w.r.t. the left tangent delta:
+// rho' = Exp(dphi) rho + drho and phi' ~ dphi + phi, so d(rho, phi)/d(drho, dphi) = [I, -[rho]x; 0, I]
+// (the rotation part to first order, exact at the prior).
+class PosePriorCost final : public ceres::SizedCostFunction<6, kPoseBlockSize> {
+ public:
+  explicit PosePriorCost(const PosePrior& prior) : prior_(prior) {}
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const Rigid3 pose = PoseFromBlock(parameters[0]);
+    const Quat dq = pose.rotation() * prior_.cam_from_world.rotation().conjugate();
+    const Vec3 rho = pose.translation() - dq * prior_.cam_from_world.translation();
+    const Vec3 phi = LogSO3(dq.toRotationMatrix());
+    const double wt = 1.0 / prior_.sigma_translation_m, wr = 1.0 / prior_.sigma_rotation_rad;
+    Eigen::Map<Eigen::Matrix<double, 6, 1>> r(residuals);
+    r << wt * rho, wr * phi;
+    if (jacobians != nullptr && jacobians[0] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 6, kPoseBlockSize, Eigen::RowMajor>> j(jacobians[0]);
+      j.setZero();
+      j.block<3, 3>(0, 0) = wt * Mat3::Identity();
+      j.block<3, 3>(0, 3) << 0, wt * rho.z(), -wt * rho.y(), -wt * rho.z(), 0, wt * rho.x(), wt * rho.y(), -wt * rho.x(), 0;
+      j.block<3, 3>(3, 3) = wr * Mat3::Identity();
+    }
+    return true;
+  }
+
+ private:
+  PosePrior prior_;
+};
+
 struct RoundContext {
   const std::vector<PoseObservation>* observations;
   const std::vector<std::unique_ptr<ceres::CostFunction>>* costs;
+  ceres::CostFunction* prior;  // null = none
   ceres::LossFunction* huber_mono;
   ceres::LossFunction* huber_stereo;
   ceres::Manifold* manifold;
@@ -75,6 +104,7 @@ void SolveRound(const RoundContext& context, bool robust, int iterations, double
     if (robust) loss = observations[i].right_u >= 0 ? context.huber_stereo : context.huber_mono;
     problem.AddResidualBlock((*context.costs)[i].get(), loss, block);
   }
+  if (context.prior != nullptr) problem.AddResidualBlock(context.prior, nullptr, block);
   ceres::Solver::Summary summary;
   ceres::Solve(SmallProblemOptions(iterations), &problem, &summary);
   if (summary.IsSolutionUsable()) std::copy(block, block + kPoseBlockSize, pose_block);
@@ -83,8 +113,10 @@ void SolveRound(const RoundContext& context, bool robust, int iterations, double
 }  // namespace
 
 int OptimizePose(const PinholeCamera& camera, double bf, const PoseOptimizerOptions& options,
-                 std::vector<PoseObservation>* observations, Rigid3* cam_from_world) {
+                 std::vector<PoseObservation>* observations, Rigid3* cam_from_world, const PosePrior* prior) {
   options.Check();
+  if (prior != nullptr && !(prior->sigma_translation_m > 0 && prior->sigma_rotation_rad > 0))
+    throw Error("OptimizePose: the prior's sigmas must be positive");
   if (observations == nullptr || cam_from_world == nullptr) throw Error("OptimizePose: null output");
   const StereoIntrinsics k(camera, bf);
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;
@@ -95,7 +127,9 @@ int OptimizePose(const PinholeCamera& camera, double bf, const PoseOptimizerOpti
   }
   ceres::HuberLoss huber_mono(std::sqrt(options.chi2_mono)), huber_stereo(std::sqrt(options.chi2_stereo));
   PoseManifold manifold;
-  const RoundContext context{observations, &costs, &huber_mono, &huber_stereo, &manifold};
+  std::unique_ptr<ceres::CostFunction> prior_cost;
+  if (prior != nullptr) prior_cost = std::make_unique<PosePriorCost>(*prior);
+  const RoundContext context{observations, &costs, prior_cost.get(), &huber_mono, &huber_stereo, &manifold};
 
   double pose_block[kPoseBlockSize];
   PoseToBlock(*cam_from_world, pose_block);

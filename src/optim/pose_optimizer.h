@@ -27,6 +27,19 @@ struct PoseOptimizerOptions {
   void Check() const;
 };
 
+// A Gaussian prior on the pose (the motion model's prediction): residual
+// (rho / sigma_translation_m, phi / sigma_rotation_rad) with (rho, phi) = cam_from_world minus
+// the prior in the pose tangent (optim/reprojection_cost.h: phi the rotation vector of
+// R R_prior^-1, rho = t - R R_prior^-1 t_prior, the offset of the prior camera's origin in the
+// camera frame). Added, without a robust loss, to every round; it never makes an observation an
+// outlier. It pins the directions the observations leave weak (few inliers, all on one side of
+// the image) and barely moves the ones they constrain.
+struct PosePrior {
+  Rigid3 cam_from_world;
+  double sigma_translation_m = 0.01;  // per axis
+  double sigma_rotation_rad = 0.01;   // per axis
+};
+
 // Optimises cam_from_world in place (initial value = input). Every observation starts as an
 // inlier (input outlier flags are ignored) unless its point is behind the camera. Each round
 // optimises over the current inliers (Huber loss with delta = sqrt(chi2 threshold) in the robust
@@ -34,7 +47,9 @@ struct PoseOptimizerOptions {
 // points behind the camera are outliers. Each round starts from the previous round's pose.
 // Returns the number of inliers. With fewer than 3 inliers no round runs (pose unchanged).
 // Throws Error when bf <= 0 while some observation has a right_u, or on invalid options.
+// `prior` (null = none, sigmas must be positive) is added as described above.
 int OptimizePose(const PinholeCamera& camera, double bf, const PoseOptimizerOptions& options,
-                 std::vector<PoseObservation>* observations, Rigid3* cam_from_world);
+                 std::vector<PoseObservation>* observations, Rigid3* cam_from_world,
+                 const PosePrior* prior = nullptr);
 
 }  // namespace esdslam

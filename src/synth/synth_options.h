@@ -45,6 +45,25 @@ struct SynthOptions {
   int moved_box = -1;
   double moved_box_time = 0.0;
   Vec3 moved_box_offset = Vec3::Zero();
+  // People close to the camera (issue 13): a pair walking side by side crosses the view
+  // close_pass_distance metres in front of the camera (their centre, along its level heading;
+  // they keep that distance as the camera moves), entering at close_pass_time seconds after
+  // frame 0 from the right, standing nearly still in front for the middle 60 % of
+  // close_pass_duration and leaving to the left. close_pass_width metres across, 1.8 m tall,
+  // 0.3 m deep: 0.7 m at 0.9 m covers about 75 % of a 640-px image at f = 525. Mover id
+  // num_movers + 1. close_pass_time < 0 = none.
+  double close_pass_time = -1.0;
+  double close_pass_duration = 2.5;  // seconds
+  double close_pass_distance = 0.9;  // metres
+  double close_pass_width = 0.7;     // metres
+  // A blocked sensor: for blocked_frames frames from frame blocked_frame a dark object (a person's
+  // back) sits right at the lens, nearer than min_depth_m (so it reads no depth), covering all
+  // but a strip at the image's right edge of about 2 % of the pixels. Mover id after the close
+  // pair's. blocked_frame < 0 = none.
+  int blocked_frame = -1;
+  int blocked_frames = 0;
+  // The depth sensor's near limit: depth nearer than this is invalid (0). 0 = none.
+  double min_depth_m = 0.0;
 
   // Throws esdslam::Error on invalid values.
   void Check() const;
@@ -56,7 +75,10 @@ struct SynthOptions {
 // "loop" (closed loop, no movers, 450 frames), "orbit" (1.35 turns around the room centre, 607
 // frames, depth noise 0.008 z^2), "corridor" (1.3 turns along a 23 m ring corridor, 781 frames,
 // depth and image noise: the loop-closing benchmark), "moved_box" (static arc, 240 frames, the crate
-// on the north wall moved 0.9 m west and 0.5 m into the room half way). Throws Error on an unknown name.
+// on the north wall moved 0.9 m west and 0.5 m into the room half way), "occlusion" (arc, 3
+// movers, 300 frames: a pair crosses 0.9 m in front of the camera at 3 s and covers 60-80 % of the
+// image for about 1.5 s; the sensor is blocked for 4 frames at 7 s; near limit 0.35 m). Throws
+// Error on an unknown name.
 SynthOptions SynthPreset(const std::string& name);
 
 }  // namespace esdslam

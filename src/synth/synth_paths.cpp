@@ -160,4 +160,64 @@ Vec3 MoverCentreAt(const MoverPath& path, const Vec3& half_size, double time) {
   return Vec3(path.amplitude * std::sin(path.omega * time + path.phase), path.lane_y, half_size.z());
 }
 
+namespace {
+
+// Where the close pair and the blocker wait when they are not in the scene: under the floor,
+// outside the room box, which every camera ray hits first.
+Rigid3 ParkedPose() { return Rigid3(Quat::Identity(), Vec3(0.0, 0.0, -50.0)); }
+
+// Seconds -> frame index of the rgb image taken then.
+int FrameAt(const SynthOptions& options, double time) { return static_cast<int>(std::lround(time * options.fps)); }
+
+}  // namespace
+
+Vec3 ClosePassHalfSize(const SynthOptions& options) { return Vec3(0.5 * options.close_pass_width, 0.15, 0.9); }
+
+Rigid3 ClosePassPose(const SynthOptions& options, double time) {
+  const double u = (time - options.close_pass_time) / options.close_pass_duration;  // 0..1 over the pass
+  if (options.close_pass_time < 0 || u < 0 || u > 1) return ParkedPose();
+  const Rigid3 world_from_cam = CameraPoseAt(options, time);
+  const Mat3 cam_axes = world_from_cam.rotation_matrix();
+  const Vec3 forward = Vec3(cam_axes(0, 2), cam_axes(1, 2), 0.0).normalized();  // level heading
+  const Vec3 up = Vec3::UnitZ();
+  const Vec3 right = forward.cross(up);
+  const Vec3 half = ClosePassHalfSize(options);
+  // Lateral offset of the pair's centre (metres, + right): from just outside the view (at its
+  // back face's depth) to +-5 cm in 20 % of the pass, across the middle 60 %, out in the last 20 %.
+  const double half_view = 0.5 * options.intrinsics.width / options.intrinsics.fx;  // tan(half fov)
+  const double outside = half_view * (options.close_pass_distance + half.y()) + half.x() + 0.05;
+  double lateral;
+  if (u < 0.2) {
+    lateral = outside + (0.05 - outside) * (u / 0.2);
+  } else if (u <= 0.8) {
+    lateral = 0.05 - 0.1 * (u - 0.2) / 0.6;
+  } else {
+    lateral = -0.05 - (outside - 0.05) * ((u - 0.8) / 0.2);
+  }
+  Vec3 centre = world_from_cam.translation() + forward * options.close_pass_distance + right * lateral;
+  centre.z() = half.z();  // standing on the floor
+  Mat3 rotation;
+  rotation.col(0) = right;
+  rotation.col(1) = forward;
+  rotation.col(2) = up;
+  return Rigid3(Quat(rotation), centre);
+}
+
+Vec3 BlockerHalfSize() { return Vec3(0.3, 0.05, 0.3); }
+
+Rigid3 BlockerPose(const SynthOptions& options, double time) {
+  const int frame = FrameAt(options, time);
+  if (options.blocked_frame < 0 || frame < options.blocked_frame || frame >= options.blocked_frame + options.blocked_frames)
+    return ParkedPose();
+  // Front face 0.15 m from the lens; its right edge where the image's last 2 % of columns begin.
+  const Vec3 half = BlockerHalfSize();
+  const double front = 0.15;
+  const double edge_column = options.intrinsics.width * 0.98;
+  const double edge_x = (edge_column - options.intrinsics.cx) / options.intrinsics.fx * front;
+  Mat3 cam_from_box_rotation;  // box x -> camera x, box y -> optical axis, box z -> image up
+  cam_from_box_rotation << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  const Rigid3 cam_from_box(Quat(cam_from_box_rotation), Vec3(edge_x - half.x(), 0.0, front + half.y()));
+  return CameraPoseAt(options, time) * cam_from_box;
+}
+
 }  // namespace esdslam

@@ -42,4 +42,16 @@ Vec3 MoverHalfSize(const SynthOptions& options);
 // Centre of the mover box at `time` (the box is axis-aligned: it walks along x).
 Vec3 MoverCentreAt(const MoverPath& path, const Vec3& half_size, double time);
 
+// The pair walking close to the camera (SynthOptions::close_pass_*): half sizes (x across the
+// view, y along the camera's level heading, z up) and world_from_box at `time`. Outside the pass
+// the box is parked under the floor, where no ray of the room reaches it.
+Vec3 ClosePassHalfSize(const SynthOptions& options);
+Rigid3 ClosePassPose(const SynthOptions& options, double time);
+
+// The object blocking the lens (SynthOptions::blocked_*): half sizes (x across the view, y along
+// the optical axis, z up in the image) and world_from_box at `time`, attached to the camera
+// 0.15-0.25 m in front of it during the blocked frames, parked under the floor otherwise.
+Vec3 BlockerHalfSize();
+Rigid3 BlockerPose(const SynthOptions& options, double time);
+
 }  // namespace esdslam

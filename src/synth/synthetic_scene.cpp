@@ -112,30 +112,42 @@ void SyntheticScene::BuildStaticScene(std::mt19937& rng) {
 
 void SyntheticScene::BuildMovers(std::mt19937& rng) {
   mover_paths_ = MakeMoverPaths(options_, rng);
-  std::uniform_int_distribution<int> level(20, 235);
-  for (int k = 1; k <= num_movers(); ++k) {
-    TexturedBox box;
-    box.half_size = MoverHalfSize(options_);
-    box.object_id = k;
-    box.texel_m = 0.004;
-    TextureStyle shirt;  // own colours and finer shapes: clothing
-    shirt.base_bgr = cv::Vec3b(level(rng), level(rng), level(rng));
-    shirt.scales_m = {0.2, 0.1, 0.05, 0.03};
-    shirt.coverage = {0.4, 0.4, 0.3, 0.15};
-    shirt.colour_probability = 0.8;
-    shirt.posters_per_m2 = 0.0;
-    TextureBox(box, shirt, rng);
-    TextureStyle trousers = shirt;
-    trousers.base_bgr = cv::Vec3b(level(rng), level(rng), level(rng));
-    for (int face = 0; face < 4; ++face) {  // side faces: rows run along z from the bottom up
-      cv::Mat& texture = box.face_textures[face];
-      const int rows = static_cast<int>(0.45 * texture.rows);
-      const double width_m = texture.cols * box.texel_m;
-      MakeTexture(width_m, rows * box.texel_m, box.texel_m, trousers, rng)
-          .copyTo(texture(cv::Rect(0, 0, texture.cols, rows)));
-    }
-    boxes_.push_back(std::move(box));
+  for (std::size_t k = 0; k < mover_paths_.size(); ++k) AddPersonBox(MoverHalfSize(options_), rng);
+  if (options_.close_pass_time >= 0) {
+    close_pass_box_ = static_cast<int>(boxes_.size());
+    AddPersonBox(ClosePassHalfSize(options_), rng);
   }
+  if (options_.blocked_frame >= 0) {
+    blocker_box_ = static_cast<int>(boxes_.size());
+    AddPersonBox(BlockerHalfSize(), rng);
+    // Out of focus and unlit at the lens: dark, with little contrast left.
+    for (cv::Mat& texture : boxes_.back().face_textures) texture.convertTo(texture, -1, 0.12, 4.0);
+  }
+}
+
+void SyntheticScene::AddPersonBox(const Vec3& half_size, std::mt19937& rng) {
+  std::uniform_int_distribution<int> level(20, 235);
+  TexturedBox box;
+  box.half_size = half_size;
+  box.object_id = static_cast<int>(boxes_.size()) - first_mover_box_ + 1;
+  box.texel_m = 0.004;
+  TextureStyle shirt;  // own colours and finer shapes: clothing
+  shirt.base_bgr = cv::Vec3b(level(rng), level(rng), level(rng));
+  shirt.scales_m = {0.2, 0.1, 0.05, 0.03};
+  shirt.coverage = {0.4, 0.4, 0.3, 0.15};
+  shirt.colour_probability = 0.8;
+  shirt.posters_per_m2 = 0.0;
+  TextureBox(box, shirt, rng);
+  TextureStyle trousers = shirt;
+  trousers.base_bgr = cv::Vec3b(level(rng), level(rng), level(rng));
+  for (int face = 0; face < 4; ++face) {  // side faces: rows run along z from the bottom up
+    cv::Mat& texture = box.face_textures[face];
+    const int rows = static_cast<int>(0.45 * texture.rows);
+    const double width_m = texture.cols * box.texel_m;
+    MakeTexture(width_m, rows * box.texel_m, box.texel_m, trousers, rng)
+        .copyTo(texture(cv::Rect(0, 0, texture.cols, rows)));
+  }
+  boxes_.push_back(std::move(box));
 }
 
 std::vector<StampedPose> SyntheticScene::GroundTruth() const {
@@ -149,6 +161,8 @@ Rigid3 SyntheticScene::WorldFromBox(int box, double time) const {
     const bool moved = options_.moved_box >= 0 && box == options_.moved_box + 1 && time >= options_.moved_box_time;  // box 0: room
     return Rigid3(Quat::Identity(), static_centres_[box] + (moved ? options_.moved_box_offset : Vec3::Zero()));
   }
+  if (box == close_pass_box_) return ClosePassPose(options_, time);
+  if (box == blocker_box_) return BlockerPose(options_, time);
   const int mover = box - first_mover_box_;
   return Rigid3(Quat::Identity(), MoverCentreAt(mover_paths_[mover], boxes_[box].half_size, time));
 }
@@ -219,7 +233,7 @@ void RenderRows(const std::vector<BoxView>& views, const PinholeCamera& camera, 
   }
 }
 
-// Depth noise and range limit: sequential, so the noise is a fixed function of noise_seed.
+// Depth noise and range limits: sequential, so the noise is a fixed function of noise_seed.
 void FinishDepth(const SynthOptions& options, std::uint32_t noise_seed, cv::Mat& depth_m) {
   std::mt19937 rng(noise_seed);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -228,7 +242,7 @@ void FinishDepth(const SynthOptions& options, std::uint32_t noise_seed, cv::Mat&
     for (int u = 0; u < depth_m.cols; ++u) {
       double z = depth[u];
       if (options.depth_noise_at_1m > 0 && z > 0) z += options.depth_noise_at_1m * z * z * normal(rng);
-      depth[u] = (z > 0 && z <= options.max_depth_m) ? static_cast<float>(z) : 0.f;
+      depth[u] = (z > 0 && z >= options.min_depth_m && z <= options.max_depth_m) ? static_cast<float>(z) : 0.f;
     }
   }
 }

@@ -49,7 +49,9 @@ class SyntheticScene {
   const SynthOptions& options() const { return options_; }
   const PinholeCamera& camera() const { return camera_; }
   int num_frames() const { return options_.num_frames; }
-  int num_movers() const { return static_cast<int>(mover_paths_.size()); }
+  // Moving objects: the walking people of num_movers lanes, then the close pair and the lens
+  // blocker when the options ask for them (mover ids 1..num_movers() in that order).
+  int num_movers() const { return static_cast<int>(boxes_.size()) - first_mover_box_; }
 
   double FrameTime(int index) const { return index / options_.fps; }  // seconds since frame 0
   double Timestamp(int index) const { return options_.first_timestamp + FrameTime(index); }
@@ -74,6 +76,8 @@ class SyntheticScene {
  private:
   void BuildStaticScene(std::mt19937& rng);
   void BuildMovers(std::mt19937& rng);
+  // Adds a person-like box (shirt and trousers textures) with the next mover id.
+  void AddPersonBox(const Vec3& half_size, std::mt19937& rng);
 
   SynthOptions options_;
   PinholeCamera camera_;
@@ -81,6 +85,8 @@ class SyntheticScene {
   std::vector<Vec3> static_centres_;  // centres of the static boxes (axis-aligned)
   int first_mover_box_ = 0;
   std::vector<MoverPath> mover_paths_;
+  int close_pass_box_ = -1;  // index into boxes_, -1 = none
+  int blocker_box_ = -1;
 };
 
 }  // namespace esdslam

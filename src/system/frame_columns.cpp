@@ -49,6 +49,12 @@ const std::vector<FrameColumn>& FrameColumns() {
     {"label_trust", "", 3, [](R r) { return r.mask.trust; }},
     // Tracking waited for the mask thread (the mask of a frame is made ahead, dynamic/mask_ahead.h).
     {"mask_wait_ms", "ms", 3, [](R r) { return r.mask_wait_ms; }, "mask_wait"},
+    // Map points the tracked pose rests on (local-map inliers; 0 without a pose), and whether the
+    // frame became a keyframe.
+    {"inliers", "", kInt, [](R r) { return static_cast<double>(r.track.has_pose ? r.track.inliers : 0); }},
+    {"new_keyframe", "", kInt, [](R r) { return r.track.new_keyframe ? 1.0 : 0.0; }},
+    // A blind frame (blocked sensor, view filled by people) given the motion model's pose.
+    {"coasted", "", kInt, [](R r) { return r.track.coasted ? 1.0 : 0.0; }},
     // Summary only: the dynamic stages together (region growing + geometry check).
     {"dynamic_ms", "ms", 3, [](R r) { return r.mask.grow_ms + r.track.geometry.check_ms; }, "grow+geo", false},
     {"dynamic_cpu_ms", "ms", 3, [](R r) { return r.mask.grow_cpu_ms + r.track.geometry.check_cpu_ms; }, "(cpu)",

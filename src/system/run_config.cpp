@@ -88,6 +88,8 @@ RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags) {
   slam.single_thread = flags.single_thread;
   slam.tracker.max_frames_between_keyframes = MaxFramesBetweenKeyframes(config.settings.core.fps);
   slam.tracker.localization_only = flags.localization;
+  slam.tracker.motion_prior_below_matches = config.settings.motion_prior_below_matches;
+  slam.tracker.max_coasted_frames = config.settings.max_coasted_frames;
   slam.loop = config.settings.loop;
   slam.geometry_check = UsesGeometryCheck(flags.mode);
   slam.geometry = config.settings.geometry;

@@ -85,6 +85,8 @@ std::string FormatRunSummary(const FrameLog& log, std::size_t total_frames, cons
   const long tracked = static_cast<long>(lost.size()) - static_cast<long>(Sum(lost));
   std::string text = FormatStageSummary(log);
   text += fmt::format("frames_tracked {} / {} (processed {})\n", tracked, total_frames, log.size());
+  text += fmt::format("frames_coasted {} (blind: too few static keypoints; the motion model's pose)\n",
+                      static_cast<long>(Sum(log.Values("coasted"))));
   text += fmt::format("frames_skipped {} (images that could not be read)\n", frames_unreadable);
   text += fmt::format("frames_dropped {} (arrived while the system was busy: frames without a pose)\n",
                       static_cast<long>(Sum(log.Values("dropped_before"))));

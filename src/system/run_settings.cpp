@@ -63,6 +63,8 @@ void RunSettings::Check() const {
   core.Check();
   mask_refine.Check();
   CheckRange("Sequence.maxConsecutiveBadFrames", max_consecutive_bad_frames, 1, 100000, "frames");
+  CheckRange("Tracking.motionPriorBelowMatches", motion_prior_below_matches, 0, 100000, "matches (0 = off)");
+  CheckRange("Tracking.maxCoastedFrames", max_coasted_frames, 0, 1000, "frames (0 = off)");
   region_growing.Check("Dynamic.grow.");
   geometry.Check();
   dense.Check();
@@ -142,6 +144,8 @@ void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
   table.Add("Dynamic.maskDilation", &run.mask_refine.dilation_px);
   table.Add("Dynamic.refineScale", &run.mask_refine.scale);
   table.Add("Sequence.maxConsecutiveBadFrames", &run.max_consecutive_bad_frames);
+  table.Add("Tracking.motionPriorBelowMatches", &run.motion_prior_below_matches);
+  table.Add("Tracking.maxCoastedFrames", &run.max_coasted_frames);
   BindGrowing("Dynamic.grow.", run.region_growing, table);
   GeometryCheckOptions& g = run.geometry.check;
   table.Add("Dynamic.check.maxParallax", &g.max_parallax_deg);

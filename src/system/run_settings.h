@@ -45,6 +45,10 @@ struct RunSettings {
   // a row stop the run with an error (io/frame_source.h). 1..100000.
   int max_consecutive_bad_frames = 10;
   LoopOptions loop;  // Loop.* keys (system/loop_settings.h); vocabulary path resolved on load
+  // Tracking.motionPriorBelowMatches, Tracking.maxCoastedFrames (tracking/tracker.h TrackerOptions:
+  // the motion prior when local-map matches are fewer, 0 = off; blind frames given the motion model's pose).
+  int motion_prior_below_matches = 0;
+  int max_coasted_frames = 10;
 
   void Check() const;  // throws Error
 };

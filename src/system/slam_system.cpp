@@ -85,6 +85,7 @@ TrackOutcome SlamSystem::TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, d
   outcome.new_keyframe = result.new_keyframe != nullptr;
   outcome.keyframe = result.new_keyframe;
   outcome.inliers = result.inliers;
+  outcome.coasted = result.coasted;
   FrameRecord record{timestamp, nullptr, Rigid3()};
   if (result.has_pose) {
     outcome.world_from_cam = result.cam_from_world.inverse();

@@ -50,6 +50,7 @@ struct TrackOutcome {
   bool new_keyframe = false;
   KeyFrame* keyframe = nullptr;  // the new keyframe when new_keyframe (owned by the map, never freed before it)
   int inliers = 0;
+  bool coasted = false;  // a blind frame given the motion model's pose (TrackerOptions::max_coasted_frames)
   double extract_ms = 0;  // Frame construction (ORB extraction, undistortion, depth lookup)
   double track_ms = 0;    // tracking step, plus local mapping in single-thread mode
   // The geometry check inside the tracking step (part of track_ms), as GeometryFilter::Apply

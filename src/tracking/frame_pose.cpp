@@ -6,7 +6,7 @@
 
 namespace esdslam {
 
-int OptimizeFramePose(Frame* frame, const PoseOptimizerOptions& options) {
+int OptimizeFramePose(Frame* frame, const PoseOptimizerOptions& options, const PosePrior* prior) {
   const FeatureSet& features = frame->features();
   std::vector<PoseObservation> observations;
   std::vector<int> indices;  // keypoint of each observation
@@ -23,7 +23,7 @@ int OptimizeFramePose(Frame* frame, const PoseOptimizerOptions& options) {
     indices.push_back(i);
   }
   if (observations.empty()) return 0;
-  const int inliers = OptimizePose(features.rig->camera, features.rig->bf, options, &observations, &frame->cam_from_world);
+  const int inliers = OptimizePose(features.rig->camera, features.rig->bf, options, &observations, &frame->cam_from_world, prior);
   for (std::size_t k = 0; k < indices.size(); ++k) frame->outlier[indices[k]] = observations[k].outlier;
   return inliers;
 }

@@ -10,7 +10,7 @@ namespace esdslam {
 // Refines frame->cam_from_world from the associated points (world frame) and their keypoints,
 // weighted by the inverse level variance; frame->outlier is rewritten for every associated
 // keypoint (associations themselves are kept). Returns the inlier count (0, pose untouched, when
-// the frame has no association).
-int OptimizeFramePose(Frame* frame, const PoseOptimizerOptions& options);
+// the frame has no association). `prior` (null = none): a Gaussian prior on the pose (OptimizePose).
+int OptimizeFramePose(Frame* frame, const PoseOptimizerOptions& options, const PosePrior* prior = nullptr);
 
 }  // namespace esdslam

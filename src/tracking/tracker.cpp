@@ -35,6 +35,11 @@ void TrackerOptions::Check() const {
   if (min_motion_matches < 3) throw Error("tracker: min_motion_matches must be >= 3");
   if (max_local_keyframes < 1) throw Error("tracker: max_local_keyframes must be >= 1");
   if (max_depth_points < 0) throw Error("tracker: max_depth_points must be >= 0");
+  if (max_coasted_frames < 0) throw Error("tracker: max_coasted_frames must be >= 0");
+  if (motion_prior_below_matches < 0) throw Error("tracker: motion_prior_below_matches must be >= 0");
+  if (!(motion_prior_min_sigma_m > 0 && motion_prior_min_sigma_m < 1) ||
+      !(motion_prior_min_sigma_rad > 0 && motion_prior_min_sigma_rad < 1))
+    throw Error("tracker: motion_prior_min_sigma_m / _rad must be in (0, 1)");
   pose.Check();
 }
 
@@ -53,6 +58,8 @@ TrackingResult Tracker::Track(Frame* frame, MovingKeypointFilter* moving_filter)
       tracked = Initialize(frame);
       if (tracked) result.new_keyframe = last_keyframe_;
     } else {
+      predicted_cam_from_world_.reset();
+      if (state_ == TrackingState::kOk && velocity_valid_) predicted_cam_from_world_ = velocity_ * last_frame_.cam_from_world;
       if (state_ == TrackingState::kOk) {
         ReplaceMovedPointsInLastFrame();
         if (velocity_valid_) tracked = TrackWithMotionModel(frame);
@@ -65,11 +72,14 @@ TrackingResult Tracker::Track(Frame* frame, MovingKeypointFilter* moving_filter)
       frame->reference_keyframe = reference_keyframe_;
       if (tracked && moving_filter != nullptr) FilterMovingKeypoints(frame, moving_filter);
       if (tracked) tracked = TrackLocalMap(frame);
-      state_ = tracked ? TrackingState::kOk : TrackingState::kLost;
       // No keyframe while local mapping is paused for a loop correction (reservation refused).
       if (tracked && !options_.localization_only && NeedNewKeyFrame(*frame) &&
           (sink_ == nullptr || sink_->ReserveKeyFrame()))
         result.new_keyframe = CreateNewKeyFrame(frame);
+      result.coasted = !tracked && Coast(frame);
+      if (!result.coasted) coasted_frames_ = 0;
+      tracked = tracked || result.coasted;
+      state_ = tracked ? TrackingState::kOk : TrackingState::kLost;
     }
     if (result.new_keyframe != nullptr && moving_filter != nullptr) moving_filter->AddKeyFrame(*result.new_keyframe, *frame);
     Finish(frame, tracked);
@@ -78,7 +88,7 @@ TrackingResult Tracker::Track(Frame* frame, MovingKeypointFilter* moving_filter)
     result.has_pose = frame->has_pose;
     result.cam_from_world = frame->cam_from_world;
     result.reference_keyframe = frame->reference_keyframe;
-    result.inliers = inliers_;
+    result.inliers = result.coasted ? 0 : inliers_;
   }
   if (result.new_keyframe != nullptr) {
     if (sink_ != nullptr) sink_->InsertKeyFrame(result.new_keyframe);
@@ -208,6 +218,22 @@ void Tracker::FilterMovingKeypoints(Frame* frame, MovingKeypointFilter* filter) 
   if (kept < options_.min_pose_matches) return;
   OptimizeFramePose(frame, options_.pose);
   DiscardOutliers(frame);
+}
+
+// A blind frame (too few static keypoints to reach min_local_map_inliers) after OK tracking:
+// the motion model's pose, without map associations, for up to max_coasted_frames in a row.
+bool Tracker::Coast(Frame* frame) {
+  if (state_ != TrackingState::kOk || !velocity_valid_ || coasted_frames_ >= options_.max_coasted_frames) return false;
+  int static_keypoints = 0;
+  for (int i = 0; i < frame->size(); ++i) static_keypoints += !frame->features().is_dynamic[i];
+  if (static_keypoints >= options_.min_local_map_inliers) return false;
+  ++coasted_frames_;
+  frame->cam_from_world = velocity_ * last_frame_.cam_from_world;
+  std::fill(frame->map_points.begin(), frame->map_points.end(), nullptr);
+  std::fill(frame->outlier.begin(), frame->outlier.end(), false);
+  frame->reference_keyframe = reference_keyframe_;
+  inliers_ = 0;
+  return true;
 }
 
 // Drops outlier matches; returns the matches left with real (non-temporary) map points.

@@ -13,6 +13,7 @@
 // loop closing, global BA); the motion model is a relative motion and needs no correction.
 
 #include <memory>
+#include <optional>
 #include <unordered_set>
 #include <vector>
 
@@ -49,6 +50,23 @@ struct TrackerOptions {
   // re-match the old one). The local-map window is widened to this factor for 2 frames (ORB-SLAM2: 5).
   int relocalized_min_inliers = 50;
   double relocalized_search_radius_factor = 5;
+  // A blind frame (fewer than min_local_map_inliers static keypoints: a blocked or dark sensor, a
+  // person filling the view) cannot be tracked. While tracking was OK, such a frame gets the
+  // motion model's pose (constant velocity from the last tracked frames) instead of none, for
+  // at most this many frames in a row (0 = off); no keyframe is made from it, and the next frame
+  // is tracked as after any failed motion-model step (reference keyframe, then relocalization).
+  int max_coasted_frames = 10;
+  // Motion prior (issue 13), off by default: when local-map tracking has fewer than
+  // motion_prior_below_matches matches, its pose optimisation gets a Gaussian prior at the
+  // constant-velocity prediction, with sigmas learnt from how far the tracked poses of
+  // well-matched frames fell from their predictions (a running mean over about 20 frames, at
+  // least motion_prior_min_sigma_*). Few matches are often clustered on the static strip people
+  // leave: the prior holds the directions they leave weak. It helps where the motion is smooth
+  // (synthetic occlusion preset, docs/RESULTS.md) and hurts where the prediction is wrong (a
+  // frame lost in a run whose movers are not masked), so it is not on by default. 0 = off.
+  int motion_prior_below_matches = 0;
+  double motion_prior_min_sigma_m = 0.002;
+  double motion_prior_min_sigma_rad = 0.002;
   PoseOptimizerOptions pose;
   void Check() const;
 };
@@ -61,6 +79,7 @@ struct TrackingResult {
   KeyFrame* reference_keyframe = nullptr;  // for has_pose: pose stored relative to it
   KeyFrame* new_keyframe = nullptr;        // created in this step (already handed to the sink)
   int inliers = 0;
+  bool coasted = false;  // blind frame: the pose is the motion model's prediction (max_coasted_frames)
 };
 
 class Tracker {
@@ -96,6 +115,9 @@ class Tracker {
   void FilterMovingKeypoints(Frame* frame, MovingKeypointFilter* filter);
   void ReplaceMovedPointsInLastFrame();
   int DiscardOutliers(Frame* frame);
+  bool Coast(Frame* frame);
+  std::optional<PosePrior> MotionPrior(int matches) const;
+  void LearnPredictionError(const Frame& frame);
   void Finish(Frame* frame, bool tracked);
   // Local map (tracker_local_map.cpp).
   bool TrackLocalMap(Frame* frame);
@@ -126,6 +148,13 @@ class Tracker {
   long last_keyframe_frame_id_ = -1;
   long last_relocalization_frame_id_ = -1;  // -1: none
   int inliers_ = 0;
+  int coasted_frames_ = 0;  // blind frames in a row given the motion model's pose (Coast)
+  // The constant-velocity prediction of the frame being tracked (valid during Track when tracking
+  // was OK with a velocity), and the running mean squared prediction errors (translation m^2,
+  // rotation rad^2, norms over the 3 axes) of well-matched frames.
+  std::optional<Rigid3> predicted_cam_from_world_;
+  double prediction_error_t2_ = 0, prediction_error_r2_ = 0;
+  int prediction_error_samples_ = 0;
   std::vector<KeyFrame*> local_keyframes_;
   std::vector<MapPoint*> local_points_;
   std::vector<std::unique_ptr<MapPoint>> temporary_points_;  // depth points of the last frame

@@ -1,5 +1,6 @@
 // Tracker: local-map tracking and keyframe decision / creation.
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <unordered_set>
 
@@ -15,7 +16,10 @@ bool Tracker::TrackLocalMap(Frame* frame) {
   UpdateLocalKeyFrames(frame);
   UpdateLocalPoints();
   SearchLocalPoints(frame);
-  OptimizeFramePose(frame, options_.pose);
+  int matches = 0;
+  for (int i = 0; i < frame->size(); ++i) matches += frame->map_points[i] != nullptr;
+  const std::optional<PosePrior> prior = MotionPrior(matches);
+  OptimizeFramePose(frame, options_.pose, prior ? &*prior : nullptr);
   inliers_ = 0;
   for (int i = 0; i < frame->size(); ++i) {
     MapPoint* point = frame->map_points[i];
@@ -23,9 +27,34 @@ bool Tracker::TrackLocalMap(Frame* frame) {
     point->IncreaseFound();
     if (point->num_observations() > 0) ++inliers_;
   }
+  if (!prior && inliers_ >= options_.min_local_map_inliers) LearnPredictionError(*frame);
   if (RecentlyRelocalized(*frame, options_.max_frames_between_keyframes))
     return inliers_ >= std::max(options_.min_local_map_inliers, options_.relocalized_min_inliers);
   return inliers_ >= options_.min_local_map_inliers;
+}
+
+// The Gaussian prior at the constant-velocity prediction when the matches are few (see
+// TrackerOptions::motion_prior_below_matches); none before 5 well-matched frames taught its sigmas.
+std::optional<PosePrior> Tracker::MotionPrior(int matches) const {
+  if (!predicted_cam_from_world_ || matches >= options_.motion_prior_below_matches || prediction_error_samples_ < 5)
+    return std::nullopt;
+  PosePrior prior;
+  prior.cam_from_world = *predicted_cam_from_world_;
+  prior.sigma_translation_m = std::max(options_.motion_prior_min_sigma_m, std::sqrt(prediction_error_t2_ / 3.0));
+  prior.sigma_rotation_rad = std::max(options_.motion_prior_min_sigma_rad, std::sqrt(prediction_error_r2_ / 3.0));
+  return prior;
+}
+
+// Running mean (weight 1/20) of the squared prediction errors, from frames tracked without the
+// prior (so the prior never teaches itself).
+void Tracker::LearnPredictionError(const Frame& frame) {
+  if (!predicted_cam_from_world_) return;
+  const Rigid3 error = frame.cam_from_world * predicted_cam_from_world_->inverse();
+  const double t2 = error.translation().squaredNorm(), r2 = LogSO3(error.rotation_matrix()).squaredNorm();
+  const double weight = prediction_error_samples_ < 20 ? 1.0 / (prediction_error_samples_ + 1) : 1.0 / 20;
+  prediction_error_t2_ += weight * (t2 - prediction_error_t2_);
+  prediction_error_r2_ += weight * (r2 - prediction_error_r2_);
+  ++prediction_error_samples_;
 }
 
 // Local keyframes: those observing the frame's points, then up to 10 best covisible keyframes,

@@ -130,5 +130,67 @@ TEST(OptimizePose, RejectsInvalidInput) {
   EXPECT_THROW(OptimizePose(camera, kBf, PoseOptimizerOptions{}, &scene.observations, &pose), Error);
 }
 
+// 30 monocular points in a 20 px patch at the image centre, 5-6 m away: the translation along the
+// optical axis barely moves their pixels, so the observations leave it free.
+PoseScene MakeNarrowScene(const PinholeCamera& camera, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> offset(-10, 10), z_dist(5.0, 6.0);
+  std::normal_distribution<double> normal(0, 0.5);
+  PoseScene scene;
+  scene.cam_from_world = Rigid3(ExpSO3(Vec3(0.1, -0.2, 0.05)), Vec3(0.3, 0.1, 0.8));
+  const Rigid3 world_from_cam = scene.cam_from_world.inverse();
+  for (int i = 0; i < 30; ++i) {
+    const Vec2 pixel(camera.cx() + offset(rng), camera.cy() + offset(rng));
+    PoseObservation o;
+    o.point_world = world_from_cam * camera.Backproject(pixel, z_dist(rng));
+    o.pixel = pixel + Vec2(normal(rng), normal(rng));
+    scene.observations.push_back(o);
+    scene.is_outlier.push_back(false);
+  }
+  return scene;
+}
+
+// The start: 5 cm along the optical axis from the truth (in the camera frame).
+Rigid3 OffAlongTheAxis(const Rigid3& cam_from_world) {
+  return Rigid3(cam_from_world.rotation(), cam_from_world.translation() + Vec3(0, 0, 0.05));
+}
+
+TEST(OptimizePose, APriorHoldsTheDirectionTheObservationsLeaveFree) {
+  const PinholeCamera camera = test::TumLikeCamera();
+  PoseScene scene = MakeNarrowScene(camera, 8);
+  Rigid3 without = OffAlongTheAxis(scene.cam_from_world);
+  OptimizePose(camera, kBf, PoseOptimizerOptions{}, &scene.observations, &without);
+  EXPECT_GT(test::CentreError(without, scene.cam_from_world), 0.03) << "the axis is free without the prior";
+  PosePrior prior;  // the prediction: 5 mm off the truth, sigma 1 cm
+  prior.cam_from_world = Rigid3(scene.cam_from_world.rotation(), scene.cam_from_world.translation() + Vec3(0.005, 0, 0));
+  Rigid3 with = OffAlongTheAxis(scene.cam_from_world);
+  const int inliers = OptimizePose(camera, kBf, PoseOptimizerOptions{}, &scene.observations, &with, &prior);
+  EXPECT_EQ(inliers, 30);
+  EXPECT_LT(test::CentreError(with, scene.cam_from_world), 0.012);
+}
+
+TEST(OptimizePose, APriorBarelyMovesAWellObservedPose) {
+  const PinholeCamera camera = test::TumLikeCamera();
+  PoseScene scene = MakeScene(camera, 300, 0.7, 0.0, 9);
+  PoseScene copy = scene;
+  Rigid3 without = scene.cam_from_world;
+  OptimizePose(camera, kBf, PoseOptimizerOptions{}, &scene.observations, &without);
+  PosePrior prior;  // a prediction 2 cm and 1 degree off
+  prior.cam_from_world = Rigid3(ExpSO3(Vec3(0, 0.0175, 0)) * scene.cam_from_world.rotation(),
+                                scene.cam_from_world.translation() + Vec3(0.02, 0, 0));
+  Rigid3 with = scene.cam_from_world;
+  OptimizePose(camera, kBf, PoseOptimizerOptions{}, &copy.observations, &with, &prior);
+  EXPECT_LT(test::CentreError(with, without), 0.002);
+  EXPECT_LT(test::RotationErrorDeg(with, without), 0.05);
+}
+
+TEST(OptimizePose, RejectsAPriorWithoutPositiveSigmas) {
+  const PinholeCamera camera = test::TumLikeCamera();
+  PoseScene scene = MakeScene(camera, 20, 1.0, 0.0, 6);
+  Rigid3 pose = scene.cam_from_world;
+  PosePrior prior{pose, 0.0, 0.01};
+  EXPECT_THROW(OptimizePose(camera, kBf, PoseOptimizerOptions{}, &scene.observations, &pose, &prior), Error);
+}
+
 }  // namespace
 }  // namespace esdslam

@@ -27,4 +27,19 @@ const std::string& DynamicTestSequence(int frames) {
   return dirs.emplace(frames, out).first->second;
 }
 
+const std::string& OcclusionTestSequence() {
+  static const std::string dir = [] {
+    SynthOptions options = SynthPreset("occlusion");
+    options.supersampling = 1;  // 4x faster rendering; the tracking problem is the same
+    const SyntheticScene scene(options);
+    const std::string out = TestTempPath("occlusion_sequence");
+    std::filesystem::remove_all(out);
+    WriteSynthSequence(scene, out);
+    std::ofstream(out + "/run.yaml") << SynthSettingsYaml(options) << "\nSemantic.segmenter: folder\n"
+                                     << "Semantic.maskFolder: " << out << "/labels\n";
+    return out;
+  }();
+  return dir;
+}
+
 }  // namespace esdslam::testing

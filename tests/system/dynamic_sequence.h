@@ -11,4 +11,8 @@ namespace esdslam::testing {
 // safety dilation of the refined mask (Dynamic.maskDilation: 0), so precision measures the mask.
 const std::string& DynamicTestSequence(int frames);
 
+// The "occlusion" preset (no supersampling) in a temp folder, plus run.yaml: the scene's settings
+// with the folder segmenter on its labels/ (the default mask dilation kept).
+const std::string& OcclusionTestSequence();
+
 }  // namespace esdslam::testing

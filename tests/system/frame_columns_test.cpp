@@ -20,7 +20,7 @@ const char* kHeader =
     "timestamp,load_ms,extract_ms,track_ms,state,lost,seg_latency_ms,seg_wait_ms,mask_ms,label_age,"
     "dynamic_fraction,keypoints,dynamic_keypoints,grow_ms,geometry_ms,geometry_keypoints,geometry_culled,"
     "geometry_covered,geometry_window_px,grow_cpu_ms,geometry_cpu_ms,dropped_before,predict_ms,predict_cpu_ms,label_trust,"
-    "mask_wait_ms";
+    "mask_wait_ms,inliers,new_keyframe,coasted";
 
 // Every field a column reads, each a different value.
 FrameReport HandFilledReport() {
@@ -46,6 +46,8 @@ FrameReport HandFilledReport() {
   r.track.geometry.points_culled = 4;
   r.track.geometry.covered = 31;
   r.track.geometry.window_radius_px = 3;
+  r.track.inliers = 321;
+  r.track.new_keyframe = true;
   r.keypoints = {1000, 120, 20};
   return r;
 }
@@ -54,7 +56,7 @@ TEST(FrameColumnsTest, CsvHeaderAndRowFromAHandFilledReport) {
   EXPECT_EQ(FrameCsvHeader(), kHeader);
   EXPECT_EQ(FrameCsvRow(ReadFrameColumns(HandFilledReport())),
             "1305031102.175304,12.346,9.875,17.062,OK,0,140.250,3.500,1.750,2,0.1235,1000,120,0.500,2.125,20,4,31,3,"
-            "0.250,2.000,3,0.000,0.000,1.000,0.750");
+            "0.250,2.000,3,0.000,0.000,1.000,0.750,321,1,0");
 }
 
 TEST(FrameColumnsTest, EmptyStagesLostFramesAndSkippedChecks) {
