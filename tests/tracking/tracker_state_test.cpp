@@ -237,6 +237,54 @@ TEST_F(TrackerStateTest, LostFrameFarAlongIsRelocalizedAndKeyFramesPauseAfterIt)
   EXPECT_EQ(tracker.relocalizations(), 1);  // tracked frames are not relocalized again
 }
 
+// A blocked sensor (black image, no depth: no keypoint at all) after OK tracking: the blind
+// frames get the constant-velocity prediction as their pose, make no keyframe and stay OK; the
+// next real frame is tracked without a relocalization. Past max_coasted_frames the frame is LOST.
+TEST_F(TrackerStateTest, BlindFramesCoastOnTheMotionModelAndTrackingResumes) {
+  const auto blind_frame = [this](int index) {
+    SynthFrame image = scene_.RenderFrame(index);
+    image.bgr.setTo(cv::Scalar::all(0));
+    image.depth_m.setTo(0.0f);
+    return std::make_unique<Frame>(index, image.timestamp, image.bgr, image.depth_m, cv::Mat(), extractor_, rig_);
+  };
+  TrackerOptions options;
+  options.max_coasted_frames = 3;
+  Tracker tracker(&map_, &sink_, options);
+  ASSERT_EQ(Track(&tracker, 0).state, TrackingState::kOk);
+  TrackRange(&tracker, 1, 14);
+  const Rigid3 before_last = tracker.last_frame().cam_from_world;
+  const Rigid3 last = Track(&tracker, 14).cam_from_world;
+  const Rigid3 velocity = last * before_last.inverse();  // cam_14 from cam_13
+  Rigid3 predicted = last;
+  const int keyframes_before = map_.num_keyframes();
+  for (int i = 15; i < 18; ++i) {
+    std::unique_ptr<Frame> frame = blind_frame(i);
+    ASSERT_EQ(frame->size(), 0);
+    const TrackingResult coasted = tracker.Track(frame.get());
+    EXPECT_EQ(coasted.state, TrackingState::kOk) << i;
+    ASSERT_TRUE(coasted.has_pose) << i;
+    EXPECT_TRUE(coasted.coasted) << i;
+    EXPECT_EQ(coasted.inliers, 0);
+    EXPECT_EQ(coasted.new_keyframe, nullptr);
+    predicted = velocity * predicted;  // constant velocity from the last two tracked frames
+    EXPECT_LT((coasted.cam_from_world.translation() - predicted.translation()).norm(), 1e-9) << i;
+    EXPECT_LT(coasted.cam_from_world.rotation().angularDistance(predicted.rotation()), 1e-9) << i;
+  }
+  EXPECT_EQ(map_.num_keyframes(), keyframes_before);
+  const TrackingResult resumed = Track(&tracker, 18);
+  ASSERT_EQ(resumed.state, TrackingState::kOk);
+  EXPECT_FALSE(resumed.coasted);
+  EXPECT_EQ(tracker.relocalizations(), 0);
+  EXPECT_LT(PoseError(resumed.cam_from_world, 18).first, 0.02);
+
+  TrackRange(&tracker, 19, 22);
+  for (int i = 22; i < 25; ++i) EXPECT_TRUE(tracker.Track(blind_frame(i).get()).coasted) << i;
+  const TrackingResult fourth = tracker.Track(blind_frame(25).get());
+  EXPECT_EQ(fourth.state, TrackingState::kLost);
+  EXPECT_FALSE(fourth.has_pose);
+  EXPECT_FALSE(fourth.coasted);
+}
+
 // A tracker started in an existing map is LOST from the start: it never makes a map of its own;
 // without a relocalizer it finds no pose, with one the first frame is located in the old map.
 TEST_F(TrackerStateTest, StartInExistingMapIsLostUntilRelocalizedInThatMap) {
