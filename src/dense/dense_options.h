@@ -41,6 +41,10 @@ struct DenseOptions {
   // silhouette the keyframes' rays do not see past, is set free. 0 = off (the default: on Bonn
   // 1 point lowered cell ghosts 0.79 -> 0.69 % but wall coverage 98.4 -> 97.6 %; docs/RESULTS.md).
   int octomap_min_points = 0;
+  // The neighbourhood an occupied OctoMap cell's see-through test needs (free_space_window_px for
+  // the cells, whose test runs on the keyframes' coarse rays, one every pixelStride pixels: there
+  // a window of n raw pixels is at least one ray on each side). -1 = free_space_window_px.
+  int octomap_carve_window_px = -1;
 
   // Throws SettingError naming the Dense.* key of a value outside its plausible range. The
   // voxel bounds keep the map's cell count and the ray walks finite (1 mm .. 1 m).
@@ -62,6 +66,7 @@ struct DenseOptions {
     CheckRange("Dense.freeSpaceWindow", free_space_window_px, 0, 10, "px");
     CheckRange("Dense.freeSpaceMaxEvidence", free_space_max_evidence, 1, 100);
     CheckRange("Dense.octomapMinPoints", octomap_min_points, 0, 1000, "points");
+    CheckRange("Dense.octomapCarveWindow", octomap_carve_window_px, -1, 10, "px (-1 = Dense.freeSpaceWindow)");
   }
 };
 

@@ -21,6 +21,7 @@ void BindDenseSettings(DenseOptions& options, SettingsTable& table) {
   table.Add("Dense.freeSpaceSigmas", &options.free_space_sigmas);
   table.Add("Dense.freeSpaceMinMargin", &options.free_space_min_margin);
   table.Add("Dense.freeSpaceWindow", &options.free_space_window_px);
+  table.Add("Dense.octomapCarveWindow", &options.octomap_carve_window_px);
   table.Add("Dense.freeSpaceMaxEvidence", &options.free_space_max_evidence);
   table.Add("Dense.octomapMinPoints", &options.octomap_min_points);
 }

@@ -63,10 +63,12 @@ std::size_t CarveOccupiedCells(octomap::OcTree* tree, const DenseMap& map, const
   const int max_evidence = map.options().free_space_max_evidence;
   std::vector<std::uint8_t> evidence(keys.size(), 0);
   std::vector<bool> freed(keys.size(), false);
+  DenseOptions options = map.options();
+  if (options.octomap_carve_window_px >= 0) options.free_space_window_px = options.octomap_carve_window_px;
   for (const PosedRays& posed : keyframes) {
     cv::Mat depth_m;
     posed.rays.depth_mm.convertTo(depth_m, CV_32F, 0.001);
-    const FreeSpaceView view(map.camera(), posed.world_from_cam, depth_m, posed.rays.stride, map.options());
+    const FreeSpaceView view(map.camera(), posed.world_from_cam, depth_m, posed.rays.stride, options);
     for (std::size_t i = 0; i < keys.size(); ++i) {
       const FreeSpaceVerdict verdict = view.Classify(centres[i], extent);
       if (!UpdateEvidence(verdict, max_evidence, &evidence[i])) freed[i] = true;

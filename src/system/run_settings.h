@@ -48,7 +48,7 @@ struct RunSettings {
   // Tracking.motionPriorBelowMatches, Tracking.maxCoastedFrames (tracking/tracker.h TrackerOptions:
   // the motion prior when local-map matches are fewer, 0 = off; blind frames given the motion model's pose).
   int motion_prior_below_matches = 0;
-  int max_coasted_frames = 10;
+  int max_coasted_frames = 5;
 
   void Check() const;  // throws Error
 };

@@ -55,7 +55,7 @@ struct TrackerOptions {
   // motion model's pose (constant velocity from the last tracked frames) instead of none, for
   // at most this many frames in a row (0 = off); no keyframe is made from it, and the next frame
   // is tracked as after any failed motion-model step (reference keyframe, then relocalization).
-  int max_coasted_frames = 10;
+  int max_coasted_frames = 5;
   // Motion prior (issue 13), off by default: when local-map tracking has fewer than
   // motion_prior_below_matches matches, its pose optimisation gets a Gaussian prior at the
   // constant-velocity prediction, with sigmas learnt from how far the tracked poses of

@@ -44,6 +44,9 @@ BlankedRun RunBlanked(int blank_begin, int blank_count, bool relocalization) {
   SlamOptions options;
   options.single_thread = true;
   options.loop.relocalization = relocalization;
+  // No coasting through the blank frames (TrackerOptions::max_coasted_frames): this measures the
+  // relocalization after a long gap, not the motion model's guess at its first frames.
+  options.tracker.max_coasted_frames = 0;
   SlamSystem system(settings, options);
   BlankedRun run;
   const int n = static_cast<int>(sequence.frames().size());
