@@ -49,7 +49,10 @@ std::size_t InsertKeyframeRays(octomap::OcTree* tree, const DenseMap& map, const
 
 // Free-space consistency of the occupied cells (dense/free_space.h), keyframe by keyframe in id
 // order with the keyframes' ray depths: a cell that later keyframes see through loses its
-// evidence and is set free. Returns the number of cells freed.
+// evidence and is set free. The see-through test of a cell looks at the ray nearest its centre's
+// projection only (DenseOptions::octomap_carve_window_px, default 0): the rays are one every
+// pixelStride pixels, so a neighbourhood of rays spans more than a cell at the silhouettes where
+// the ghost cells are. Returns the number of cells freed.
 std::size_t CarveOccupiedCells(octomap::OcTree* tree, const DenseMap& map, const std::vector<PosedRays>& keyframes) {
   std::vector<octomap::OcTreeKey> keys;
   std::vector<Eigen::Vector3f> centres;
@@ -59,7 +62,10 @@ std::size_t CarveOccupiedCells(octomap::OcTree* tree, const DenseMap& map, const
     const octomap::point3d c = it.getCoordinate();
     centres.emplace_back(c.x(), c.y(), c.z());
   }
-  const float extent = 0.87f * static_cast<float>(tree->getResolution());  // half the cell diagonal
+  // A cell is seen through only past its whole diagonal (beyond the noise margin): the surface
+  // that made it occupied can sit anywhere in it, and a ray that passes the cell's centre beside
+  // that surface can meet the neighbouring cell's.
+  const float extent = 1.73f * static_cast<float>(tree->getResolution());
   const int max_evidence = map.options().free_space_max_evidence;
   std::vector<std::uint8_t> evidence(keys.size(), 0);
   std::vector<bool> freed(keys.size(), false);
