@@ -88,7 +88,7 @@ TrackingResult Tracker::Track(Frame* frame, MovingKeypointFilter* moving_filter)
     result.has_pose = frame->has_pose;
     result.cam_from_world = frame->cam_from_world;
     result.reference_keyframe = frame->reference_keyframe;
-    result.inliers = result.coasted ? 0 : inliers_;
+    result.inliers = inliers_;  // 0 for a coasted frame (Coast)
   }
   if (result.new_keyframe != nullptr) {
     if (sink_ != nullptr) sink_->InsertKeyFrame(result.new_keyframe);

@@ -16,9 +16,11 @@ bool Tracker::TrackLocalMap(Frame* frame) {
   UpdateLocalKeyFrames(frame);
   UpdateLocalPoints();
   SearchLocalPoints(frame);
+  const bool prior_on = options_.motion_prior_below_matches > 0;
   int matches = 0;
-  for (int i = 0; i < frame->size(); ++i) matches += frame->map_points[i] != nullptr;
-  const std::optional<PosePrior> prior = MotionPrior(matches);
+  if (prior_on)
+    for (int i = 0; i < frame->size(); ++i) matches += frame->map_points[i] != nullptr;
+  const std::optional<PosePrior> prior = prior_on ? MotionPrior(matches) : std::nullopt;
   OptimizeFramePose(frame, options_.pose, prior ? &*prior : nullptr);
   inliers_ = 0;
   for (int i = 0; i < frame->size(); ++i) {
@@ -27,7 +29,7 @@ bool Tracker::TrackLocalMap(Frame* frame) {
     point->IncreaseFound();
     if (point->num_observations() > 0) ++inliers_;
   }
-  if (!prior && inliers_ >= options_.min_local_map_inliers) LearnPredictionError(*frame);
+  if (prior_on && !prior && inliers_ >= options_.min_local_map_inliers) LearnPredictionError(*frame);
   if (RecentlyRelocalized(*frame, options_.max_frames_between_keyframes))
     return inliers_ >= std::max(options_.min_local_map_inliers, options_.relocalized_min_inliers);
   return inliers_ >= options_.min_local_map_inliers;
