@@ -10,6 +10,8 @@
 #include "common/error.h"
 #include "common/setting_error.h"
 #include "common/timer.h"
+#include "semantic/concat_layer.h"
+#include "semantic/grouped_conv_layer.h"
 #include "semantic/resize_layer.h"
 #include "semantic/score_upsampling.h"
 
@@ -46,9 +48,16 @@ OnnxSegmenter::OnnxSegmenter(OnnxSegmenterOptions options) : options_(std::move(
   if (!std::filesystem::is_regular_file(options_.model_path))
     throw InputError(options_.model_path, 0, "segmentation model file not found");
   try {
-    // The separable Resize is registered for this import only (the importer creates every layer).
+    // This project's layers are registered for this import only (the importer creates every
+    // layer). Lock order: Resize, Convolution, Concat.
     std::optional<ScopedSeparableResize> separable;
     if (options_.separable_resize) separable.emplace();
+    std::optional<ScopedGroupedConvolution> grouped;
+    std::optional<ScopedStridedConcat> strided;
+    if (options_.own_layers) {
+      grouped.emplace();
+      strided.emplace();
+    }
     net_ = cv::dnn::readNetFromONNX(options_.model_path);
   } catch (const cv::Exception& e) {
     throw InputError(options_.model_path, 0, fmt::format("OpenCV DNN cannot load the ONNX model: {}", e.what()));
@@ -56,14 +65,19 @@ OnnxSegmenter::OnnxSegmenter(OnnxSegmenterOptions options) : options_(std::move(
   if (net_.empty()) throw InputError(options_.model_path, 0, "OpenCV DNN loaded an empty network");
   net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
   net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
-  for (const std::string& name : net_.getLayerNames())
-    separable_resize_layers_ += IsSeparableResize(*net_.getLayer(name)) ? 1 : 0;
+  for (const std::string& name : net_.getLayerNames()) {
+    const cv::Ptr<cv::dnn::Layer> layer = net_.getLayer(name);
+    separable_resize_layers_ += IsSeparableResize(*layer) ? 1 : 0;
+    grouped_convolution_layers_ += IsGroupedConvolution(*layer) ? 1 : 0;
+    strided_concat_layers_ += IsStridedConcat(*layer) ? 1 : 0;
+  }
   if (options_.threads > 0) cv::setNumThreads(options_.threads);
   scores_layer_ = FinalUpsampleInput();
   // A test run checks that the model matches the configured input size and class count.
   Scores(cv::Mat(options_.input_height, options_.input_width, CV_8UC3, cv::Scalar::all(127)));
-  spdlog::info("segmenter: {} ({}x{} input, {} classes, {} separable Resize layers)", options_.model_path,
-               options_.input_width, options_.input_height, options_.class_names.size(), separable_resize_layers_);
+  spdlog::info("segmenter: {} ({}x{} input, {} classes; own layers: {} Resize, {} grouped convolution, {} Concat)",
+               options_.model_path, options_.input_width, options_.input_height, options_.class_names.size(),
+               separable_resize_layers_, grouped_convolution_layers_, strided_concat_layers_);
 }
 
 std::string OnnxSegmenter::FinalUpsampleInput() {

@@ -18,7 +18,10 @@
 // up to that layer's input; the upsampling is done by UpsampleAlignCorners
 // (semantic/score_upsampling.h): the same scores, about 10 % of the network time less at 256x192.
 // The network's other bilinear Resize layers (the decoder's) run as the separable layer of
-// semantic/resize_layer.h (separable_resize): the same scores up to float rounding.
+// semantic/resize_layer.h (separable_resize); its depthwise and small grouped convolutions as
+// the layer of semantic/grouped_conv_layer.h, its Concat layers along height or width as the one
+// of semantic/concat_layer.h (own_layers). Both give the same scores up to float rounding (the
+// labels of the reference images are unchanged) in about 70 % of OpenCV's time at 256x192.
 
 #include <array>
 #include <memory>
@@ -46,6 +49,10 @@ struct OnnxSegmenterOptions {
   // Load the model's bilinear Resize layers as the separable layer (semantic/resize_layer.h)
   // instead of OpenCV's own; false: OpenCV's layers throughout (for comparisons).
   bool separable_resize = true;
+  // Load the grouped convolutions with few inputs per group and the Concat layers along height or
+  // width as this project's layers (semantic/grouped_conv_layer.h, semantic/concat_layer.h);
+  // false: OpenCV's (for comparisons).
+  bool own_layers = true;
   // Semantic.threads: > 0 calls cv::setNumThreads(threads) when the segmenter is created. Note
   // that OpenCV's thread count is process-wide. 0 leaves OpenCV's setting untouched.
   int threads = 0;
@@ -70,6 +77,9 @@ class OnnxSegmenter : public Segmenter {
   bool upsamples_scores_itself() const { return !scores_layer_.empty(); }
   // How many of the network's layers are the separable Resize (0 without separable_resize).
   int separable_resize_layers() const { return separable_resize_layers_; }
+  // How many are the grouped convolution and the strided Concat (0 without own_layers).
+  int grouped_convolution_layers() const { return grouped_convolution_layers_; }
+  int strided_concat_layers() const { return strided_concat_layers_; }
 
  private:
   cv::Mat MakeBlob(const cv::Mat& bgr) const;
@@ -84,6 +94,8 @@ class OnnxSegmenter : public Segmenter {
   // network's output as it is.
   std::string scores_layer_;
   int separable_resize_layers_ = 0;
+  int grouped_convolution_layers_ = 0;
+  int strided_concat_layers_ = 0;
 };
 
 // Argmax over score planes (all the same size, CV_32FC1) -> CV_8UC1 labels.
