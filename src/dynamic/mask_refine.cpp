@@ -61,6 +61,19 @@ cv::Mat SubsampleDepth(const cv::Mat& depth_m, int factor) {
   return small;
 }
 
+namespace {
+
+// row[u] = in[u / kFactor] for u in [0, width).
+template <int kFactor>
+void EnlargeRow(const std::uint8_t* in, std::uint8_t* row, int width) {
+  const int whole = width / kFactor;  // source pixels whose run fits entirely
+  for (int x = 0; x < whole; ++x)
+    for (int k = 0; k < kFactor; ++k) row[x * kFactor + k] = in[x];
+  for (int u = whole * kFactor; u < width; ++u) row[u] = in[whole];
+}
+
+}  // namespace
+
 cv::Mat EnlargeNearest(const cv::Mat& small, int factor, cv::Size size) {
   RequireFactor(factor, "EnlargeNearest");
   if (small.type() != CV_8UC1) throw Error("EnlargeNearest: expected a CV_8UC1 image");
@@ -73,11 +86,13 @@ cv::Mat EnlargeNearest(const cv::Mat& small, int factor, cv::Size size) {
   for (int v = 0; v < size.height; v += factor) {
     const std::uint8_t* in = small.ptr<std::uint8_t>(v / factor);
     std::uint8_t* row = out.ptr<std::uint8_t>(v);
-    if (factor == 2) {  // the usual case, without a division per pixel
-      for (int u = 0; u + 1 < size.width; u += 2) row[u] = row[u + 1] = in[u / 2];
-      if (size.width % 2) row[size.width - 1] = in[size.width / 2];
+    // The first row of the block; the usual factors with a constant run length, no division per pixel.
+    if (factor == 2) {
+      EnlargeRow<2>(in, row, size.width);
+    } else if (factor == 4) {
+      EnlargeRow<4>(in, row, size.width);
     } else {
-      for (int u = 0; u < size.width; ++u) row[u] = in[u / factor];  // the first row of the block
+      for (int u = 0; u < size.width; ++u) row[u] = in[u / factor];
     }
     for (int k = 1; k < factor && v + k < size.height; ++k)
       std::memcpy(out.ptr<std::uint8_t>(v + k), row, static_cast<std::size_t>(size.width));

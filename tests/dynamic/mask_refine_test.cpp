@@ -57,6 +57,14 @@ TEST(MaskRefine, EnlargeNearestInvertsTheBlockLayout) {
   cv::Mat by_opencv;
   cv::resize(small, by_opencv, cv::Size(16, 12), 0, 0, cv::INTER_NEAREST);
   EXPECT_EQ(cv::countNonZero(EnlargeNearest(small, 4, cv::Size(16, 12)) != by_opencv), 0);
+  for (const int factor : {3, 4}) {  // partial blocks at the right and bottom edges
+    const cv::Size partial(4 * factor - 1, 3 * factor - 2);
+    const cv::Mat enlarged = EnlargeNearest(small, factor, partial);
+    ASSERT_EQ(enlarged.size(), partial);
+    for (int v = 0; v < partial.height; ++v)
+      for (int u = 0; u < partial.width; ++u)
+        ASSERT_EQ(enlarged.at<std::uint8_t>(v, u), small.at<std::uint8_t>(v / factor, u / factor)) << factor;
+  }
   EXPECT_THROW(EnlargeNearest(small, 1, size), Error);  // 4x3 cannot cover 7x5
   EXPECT_THROW(ReduceMaskAny(small, 0), Error);
   EXPECT_THROW(SubsampleDepth(small, 2), Error);  // not depth
