@@ -1,7 +1,8 @@
 // Cheaper inference (issue 12, item 4): time and accuracy of each network configuration.
 //
 //   inference_choice_bench [--model FILE:WxH]... [--crop FILE:WxH]... [--int8 FILE:WxH]... [--threads 1,2]
-//                          [--resize separable,opencv] [--resize-ab FILE:WxH]... [--rounds N]
+//                          [--resize separable,opencv] [--resize-ab FILE:WxH]... [--layers-ab FILE:WxH]...
+//                          [--rounds N]
 //                          [--sequence DIR] [--labels DIR] [--step N] [--crop-lag N] [--crop-margin PX]
 //
 // For every model and OpenCV thread count: CPU time of the process per Segment() call (resize,
@@ -28,6 +29,9 @@
 // interleaved frame by frame (which goes first alternates) for --rounds passes over the frames, so
 // that both see the same machine load: CPU time of the calling thread per Segment() call (median
 // and mean), and the pixels whose labels differ. Only this table is printed when given alone.
+// --layers-ab: the same for the grouped convolution and strided Concat layers
+// (semantic/grouped_conv_layer.h, semantic/concat_layer.h) against OpenCV's, both with the
+// separable Resize.
 // Defaults: the three committed models, threads 1 and 2, separable Resize, ../shared/data/bonn_crowd_dev,
 // step 10.
 #include <algorithm>
@@ -75,7 +79,7 @@ ModelSpec ParseModel(const std::string& spec) {
 }
 
 struct Args {
-  std::vector<ModelSpec> models, crops, int8, resize_ab;
+  std::vector<ModelSpec> models, crops, int8, resize_ab, layers_ab;
   std::vector<int> threads{1, 2};
   std::vector<std::string> resize{"separable"};
   std::string sequence = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/bonn_crowd_dev";
@@ -83,9 +87,11 @@ struct Args {
   int step = 10, crop_lag = 5, crop_margin = 48, rounds = 2;
 };
 
-std::unique_ptr<OnnxSegmenter> MakeSegmenter(const ModelSpec& model, int threads, bool separable_resize = true) {
+std::unique_ptr<OnnxSegmenter> MakeSegmenter(const ModelSpec& model, int threads, bool separable_resize = true,
+                                             bool own_layers = true) {
   OnnxSegmenterOptions options;
   options.separable_resize = separable_resize;
+  options.own_layers = own_layers;
   options.model_path = model.path;
   options.input_width = model.width;
   options.input_height = model.height;
@@ -247,8 +253,11 @@ std::pair<double, double> MedianAndMean(std::vector<double> values) {
   return {values[values.size() / 2], sum / static_cast<double>(values.size())};
 }
 
-void ReportResizeAb(const ModelSpec& model, const std::vector<Frame>& frames, int rounds) {
-  std::unique_ptr<OnnxSegmenter> segmenters[2] = {MakeSegmenter(model, 1, false), MakeSegmenter(model, 1, true)};
+// A/B of OpenCV's layers (segmenter 0) against this project's (segmenter 1): the Resize layers
+// (layers = false) or the grouped convolution and strided Concat layers (layers = true).
+void ReportAb(const ModelSpec& model, const std::vector<Frame>& frames, int rounds, bool layers) {
+  std::unique_ptr<OnnxSegmenter> segmenters[2] = {MakeSegmenter(model, 1, layers, !layers),
+                                                  MakeSegmenter(model, 1, true, true)};
   for (auto& segmenter : segmenters) segmenter->Segment(frames.front().bgr, 0.0);  // warm-up
   std::vector<double> cpu_ms[2];
   double differing = 0, pixels = 0;
@@ -279,7 +288,15 @@ void Run(const Args& args) {
     std::printf("Resize layers, OpenCV's against separable, 1 thread, calls interleaved: CPU ms of the calling thread "
                 "per Segment() call\n\n| model | input | calls each | OpenCV median | separable median | OpenCV mean | "
                 "separable mean | label pixels differing |\n|---|---|---|---|---|---|---|---|\n");
-    for (const ModelSpec& model : args.resize_ab) ReportResizeAb(model, frames, args.rounds);
+    for (const ModelSpec& model : args.resize_ab) ReportAb(model, frames, args.rounds, false);
+    if (args.models.empty() && args.crops.empty() && args.int8.empty() && args.layers_ab.empty()) return;
+    std::printf("\n");
+  }
+  if (!args.layers_ab.empty()) {
+    std::printf("Grouped convolution and Concat layers, OpenCV's against this project's, 1 thread, calls interleaved: "
+                "CPU ms of the calling thread per Segment() call\n\n| model | input | calls each | OpenCV median | own "
+                "median | OpenCV mean | own mean | label pixels differing |\n|---|---|---|---|---|---|---|---|\n");
+    for (const ModelSpec& model : args.layers_ab) ReportAb(model, frames, args.rounds, true);
     if (args.models.empty() && args.crops.empty() && args.int8.empty()) return;
     std::printf("\n");
   }
@@ -325,6 +342,7 @@ Args Parse(int argc, char** argv) {
     else if (flag == "--crop") args.crops.push_back(ParseModel(value));
     else if (flag == "--int8") args.int8.push_back(ParseModel(value));
     else if (flag == "--resize-ab") args.resize_ab.push_back(ParseModel(value));
+    else if (flag == "--layers-ab") args.layers_ab.push_back(ParseModel(value));
     else if (flag == "--rounds") args.rounds = std::stoi(value);
     else if (flag == "--sequence") args.sequence = value;
     else if (flag == "--labels") args.labels = value;
@@ -346,7 +364,8 @@ Args Parse(int argc, char** argv) {
       throw Error("unknown flag " + flag);
     }
   }
-  if (args.models.empty() && args.crops.empty() && args.int8.empty() && args.resize_ab.empty()) {
+  if (args.models.empty() && args.crops.empty() && args.int8.empty() && args.resize_ab.empty() &&
+      args.layers_ab.empty()) {
     const std::string dir = std::string(ESDSLAM_SOURCE_DIR) + "/models/";
     args.models = {{dir + "espnetv2_s2.0_voc_256x192.onnx", 256, 192},
                    {dir + "espnetv2_s2.0_voc_384x288.onnx", 384, 288},
