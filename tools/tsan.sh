@@ -14,7 +14,7 @@ export ESDSLAM_TEST_SERIAL_OPENCV=1
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/tools/tsan.supp"
 "$dir/tests/test_common" --gtest_filter='BoundedQueue.*:Worker.*'
 "$dir/tests/test_io" --gtest_filter='PrefetchingFrameSource*'
-"$dir/tests/test_semantic" --gtest_filter='SegmentationWorker.*'
+"$dir/tests/test_semantic" --gtest_filter='SegmentationWorker.*:ScopedLayerConstructor.*'
 "$dir/tests/test_dynamic" --gtest_filter='MaskAhead.*:*/MaskAheadModes.*'
 "$dir/tests/test_mapping" --gtest_filter='LocalMapperTest.*'
 "$dir/tests/test_dense" --gtest_filter='DenseMapper.*'

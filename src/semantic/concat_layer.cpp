@@ -7,10 +7,10 @@
 #include <opencv2/dnn/all_layers.hpp>
 #include <opencv2/dnn/layer.hpp>
 
+#include "semantic/own_layer.h"
+
 namespace esdslam {
 namespace {
-
-constexpr const char* kConcatType = "Concat";
 
 // The concatenation axis of a blob with `dims` axes (negative: counted from the last).
 int ResolvedAxis(int axis, int dims) { return axis < 0 ? axis + dims : axis; }
@@ -22,15 +22,11 @@ std::size_t Volume(const int* shape, int begin, int end) {
   return volume;
 }
 
-class StridedConcatLayer final : public cv::dnn::Layer {
+class StridedConcatLayer final : public OwnLayer {
  public:
   explicit StridedConcatLayer(const cv::dnn::LayerParams& params) : axis_(params.get<int>("axis", 1)) {
     setParamsFrom(params);
   }
-
-  using cv::dnn::Layer::forward;
-
-  bool supportBackend(int backend_id) override { return backend_id == cv::dnn::DNN_BACKEND_OPENCV; }
 
   // Inputs of one rank, equal on every axis but the concatenation axis -> their sum there.
   bool getMemoryShapes(const std::vector<cv::dnn::MatShape>& inputs, const int /*required_outputs*/,
@@ -52,16 +48,7 @@ class StridedConcatLayer final : public cv::dnn::Layer {
     return false;
   }
 
-  void forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
-               cv::OutputArrayOfArrays internals_arr) override {
-    const int depth = inputs_arr.depth();
-    if (preferableTarget == cv::dnn::DNN_TARGET_OPENCL_FP16 && (depth == CV_16S || depth == CV_16F)) {
-      forward_fallback(inputs_arr, outputs_arr, internals_arr);  // as resize_layer.cpp
-      return;
-    }
-    std::vector<cv::Mat> inputs, outputs;
-    inputs_arr.getMatVector(inputs);
-    outputs_arr.getMatVector(outputs);
+  void ForwardMats(const std::vector<cv::Mat>& inputs, std::vector<cv::Mat>& outputs) override {
     cv::Mat& out = outputs[0];
     CV_Assert(out.isContinuous());
     const int axis = ResolvedAxis(axis_, out.dims);
@@ -92,11 +79,6 @@ class StridedConcatLayer final : public cv::dnn::Layer {
   int axis_;  // as given (negative: from the last axis); resolved per blob rank
 };
 
-std::mutex& RegistrationMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
 }  // namespace
 
 bool StridedConcatHandles(const cv::dnn::LayerParams& params) {
@@ -111,11 +93,5 @@ cv::Ptr<cv::dnn::Layer> CreateConcatLayer(cv::dnn::LayerParams& params) {
 }
 
 bool IsStridedConcat(const cv::dnn::Layer& layer) { return dynamic_cast<const StridedConcatLayer*>(&layer) != nullptr; }
-
-ScopedStridedConcat::ScopedStridedConcat() : lock_(RegistrationMutex()) {
-  cv::dnn::LayerFactory::registerLayer(kConcatType, CreateConcatLayer);
-}
-
-ScopedStridedConcat::~ScopedStridedConcat() { cv::dnn::LayerFactory::unregisterLayer(kConcatType); }
 
 }  // namespace esdslam

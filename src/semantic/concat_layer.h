@@ -11,8 +11,6 @@
 // last axis, -1 or -2), no padding. Concatenation along the channels (axis 1) keeps OpenCV's
 // layer, which can have the inputs written straight into the output.
 
-#include <mutex>
-
 #include <opencv2/dnn.hpp>
 
 namespace esdslam {
@@ -21,23 +19,11 @@ namespace esdslam {
 bool StridedConcatHandles(const cv::dnn::LayerParams& params);
 
 // The Concat layer for `params`: the strided one where StridedConcatHandles, else OpenCV's
-// cv::dnn::ConcatLayer::create(params). A cv::dnn::LayerFactory constructor.
+// cv::dnn::ConcatLayer::create(params). A cv::dnn::LayerFactory constructor: registered for
+// "Concat" with ScopedLayerConstructor (semantic/own_layer.h).
 cv::Ptr<cv::dnn::Layer> CreateConcatLayer(cv::dnn::LayerParams& params);
 
 // True when `layer` is the strided layer (not OpenCV's).
 bool IsStridedConcat(const cv::dnn::Layer& layer);
-
-// While an instance lives, the "Concat" layers OpenCV DNN creates come from CreateConcatLayer
-// (the same scoped, process-wide registration as ScopedSeparableResize in semantic/resize_layer.h).
-class ScopedStridedConcat {
- public:
-  ScopedStridedConcat();
-  ~ScopedStridedConcat();
-  ScopedStridedConcat(const ScopedStridedConcat&) = delete;
-  ScopedStridedConcat& operator=(const ScopedStridedConcat&) = delete;
-
- private:
-  std::unique_lock<std::mutex> lock_;
-};
 
 }  // namespace esdslam

@@ -2,34 +2,42 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include <opencv2/dnn/all_layers.hpp>
 #include <opencv2/dnn/layer.hpp>
 
+#include "semantic/own_layer.h"
+
 namespace esdslam {
 namespace {
-
-constexpr const char* kConvolutionType = "Convolution";
 
 // Floats of sums per block of output rows in the stride-1 path (16 KiB: half an L1 data cache).
 constexpr int kRowBlockFloats = 4096;
 
-// The geometry of a 2-D convolution, from OpenCV's own parsing of the params.
+// The geometry of a 2-D convolution with explicit pads, from OpenCV's own parsing of the params.
 struct ConvGeometry {
   int kernel_h = 0, kernel_w = 0;    // taps
   int stride_h = 1, stride_w = 1;    // input px per output px
   int dilation_h = 1, dilation_w = 1;  // input px between taps
   int pad_top = 0, pad_left = 0, pad_bottom = 0, pad_right = 0;  // zero rows / columns added
-  bool valid = false;  // false: not 2-D, or a pad mode ("SAME"/"VALID") instead of pads
 };
 
-ConvGeometry GeometryOf(cv::dnn::LayerParams& params) {
-  ConvGeometry g;
-  const cv::Ptr<cv::dnn::BaseConvolutionLayer> parsed = cv::dnn::ConvolutionLayer::create(params);
+// OpenCV's parsing of `params` (it builds its convolution layer to read them); nothing when
+// OpenCV rejects them (e.g. pads differing per side: its layer says why), they are not 2-D, or
+// they give a pad mode ("SAME"/"VALID") instead of pads.
+std::optional<ConvGeometry> ParsedGeometry(const cv::dnn::LayerParams& params) {
+  cv::Ptr<cv::dnn::BaseConvolutionLayer> parsed;
+  try {
+    parsed = cv::dnn::ConvolutionLayer::create(params);
+  } catch (const cv::Exception&) {
+    return std::nullopt;
+  }
   if (parsed->kernel_size.size() != 2 || parsed->strides.size() != 2 || parsed->dilations.size() != 2 ||
       parsed->pads_begin.size() != 2 || parsed->pads_end.size() != 2 || !parsed->padMode.empty())
-    return g;
+    return std::nullopt;
+  ConvGeometry g;
   g.kernel_h = static_cast<int>(parsed->kernel_size[0]);
   g.kernel_w = static_cast<int>(parsed->kernel_size[1]);
   g.stride_h = static_cast<int>(parsed->strides[0]);
@@ -40,7 +48,6 @@ ConvGeometry GeometryOf(cv::dnn::LayerParams& params) {
   g.pad_left = static_cast<int>(parsed->pads_begin[1]);
   g.pad_bottom = static_cast<int>(parsed->pads_end[0]);
   g.pad_right = static_cast<int>(parsed->pads_end[1]);
-  g.valid = true;
   return g;
 }
 
@@ -83,7 +90,7 @@ void MultiplyAdd3x3(const float* src, std::ptrdiff_t row_step, std::ptrdiff_t co
                w6 * r2[k] + w7 * r2[k + c1] + w8 * r2[k + c2];
 }
 
-class GroupedConvolutionLayer final : public cv::dnn::Layer {
+class GroupedConvolutionLayer final : public OwnLayer {
  public:
   GroupedConvolutionLayer(const cv::dnn::LayerParams& params, const ConvGeometry& geometry)
       : geometry_(geometry), groups_(params.get<int>("group")) {
@@ -97,10 +104,6 @@ class GroupedConvolutionLayer final : public cv::dnn::Layer {
       for (int c = 0; c < outputs_; ++c) bias_[static_cast<std::size_t>(c)] = bias.at<float>(c);
     }
   }
-
-  using cv::dnn::Layer::forward;
-
-  bool supportBackend(int backend_id) override { return backend_id == cv::dnn::DNN_BACKEND_OPENCV; }
 
   bool getMemoryShapes(const std::vector<cv::dnn::MatShape>& inputs, const int /*required_outputs*/,
                        std::vector<cv::dnn::MatShape>& outputs,
@@ -116,16 +119,7 @@ class GroupedConvolutionLayer final : public cv::dnn::Layer {
     return false;
   }
 
-  void forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
-               cv::OutputArrayOfArrays internals_arr) override {
-    const int depth = inputs_arr.depth();
-    if (preferableTarget == cv::dnn::DNN_TARGET_OPENCL_FP16 && (depth == CV_16S || depth == CV_16F)) {
-      forward_fallback(inputs_arr, outputs_arr, internals_arr);  // as resize_layer.cpp
-      return;
-    }
-    std::vector<cv::Mat> inputs, outputs;
-    inputs_arr.getMatVector(inputs);
-    outputs_arr.getMatVector(outputs);
+  void ForwardMats(const std::vector<cv::Mat>& inputs, std::vector<cv::Mat>& outputs) override {
     const cv::Mat& in = inputs[0];
     cv::Mat& out = outputs[0];
     CV_CheckTypeEQ(in.type(), CV_32F, "the grouped convolution computes float blobs");
@@ -137,24 +131,23 @@ class GroupedConvolutionLayer final : public cv::dnn::Layer {
   }
 
  private:
-  // The output channels of group `group` of image `n`: bias plus every tap of the group's inputs.
+  // The output channels of group `group` of image `n`: every tap of the group's inputs, then the
+  // bias (added last in both branches).
   void OutputGroup(const cv::Mat& in, int n, int group, cv::Mat& out) const {
+    if (geometry_.stride_h == 1 && geometry_.stride_w == 1) {
+      OutputGroupStride1(in, n, group, out);
+      return;
+    }
     const int outputs_per_group = outputs_ / groups_;
     const int first_input = group * inputs_per_group_;
     const std::ptrdiff_t plane_size = static_cast<std::ptrdiff_t>(out.size[2]) * out.size[3];
     for (int j = 0; j < outputs_per_group; ++j) {
       const int channel = group * outputs_per_group + j;
       float* out_plane = out.ptr<float>(n, channel);
-      if (geometry_.stride_h == 1 && geometry_.stride_w == 1) continue;  // written below
       std::fill(out_plane, out_plane + plane_size, 0.0f);
       for (int i = 0; i < inputs_per_group_; ++i)
         AddStridedInput(in.ptr<float>(n, first_input + i), in.size[2], in.size[3], weights_.ptr<float>(channel, i),
                         out.size[2], out.size[3], out_plane);
-    }
-    if (geometry_.stride_h == 1 && geometry_.stride_w == 1) OutputGroupStride1(in, n, group, out);
-    for (int j = 0; j < outputs_per_group; ++j) {
-      const int channel = group * outputs_per_group + j;
-      float* out_plane = out.ptr<float>(n, channel);
       const float bias = bias_[static_cast<std::size_t>(channel)];
       for (std::ptrdiff_t k = 0; k < plane_size; ++k) out_plane[k] += bias;
     }
@@ -163,7 +156,8 @@ class GroupedConvolutionLayer final : public cv::dnn::Layer {
   // Stride 1: each input plane is copied once into a zero-padded plane (padded_cols wide); the
   // outputs are accumulated as rows padded_cols wide (the columns past the output width hold sums
   // that wrap into the next row and are dropped), so that each tap is one multiply-add over a
-  // block of rows (kRowBlockFloats floats: the block's sums stay in the L1 cache).
+  // block of rows (kRowBlockFloats floats: the block's sums stay in the L1 cache). The bias is
+  // added as the sums are written out.
   void OutputGroupStride1(const cv::Mat& in, int n, int group, cv::Mat& out) const {
     const ConvGeometry& g = geometry_;
     const int in_rows = in.size[2], in_cols = in.size[3];
@@ -204,13 +198,17 @@ class GroupedConvolutionLayer final : public cv::dnn::Layer {
         }
       }
     }
+    // The sums of the output columns, plus the bias.
     for (int j = 0; j < outputs_per_group; ++j) {
+      const int channel = group * outputs_per_group + j;
       const float* channel_sums = sums.data() + plane_sums * static_cast<std::size_t>(j);
-      float* out_plane = out.ptr<float>(n, group * outputs_per_group + j);
-      for (int y = 0; y < out_rows; ++y)
-        std::copy(channel_sums + static_cast<std::ptrdiff_t>(y) * padded_cols,
-                  channel_sums + static_cast<std::ptrdiff_t>(y) * padded_cols + out_cols,
-                  out_plane + static_cast<std::ptrdiff_t>(y) * out_cols);
+      float* out_plane = out.ptr<float>(n, channel);
+      const float bias = bias_[static_cast<std::size_t>(channel)];
+      for (int y = 0; y < out_rows; ++y) {
+        const float* row_sums = channel_sums + static_cast<std::ptrdiff_t>(y) * padded_cols;
+        float* out_row = out_plane + static_cast<std::ptrdiff_t>(y) * out_cols;
+        for (int x = 0; x < out_cols; ++x) out_row[x] = row_sums[x] + bias;
+      }
     }
   }
 
@@ -239,11 +237,6 @@ class GroupedConvolutionLayer final : public cv::dnn::Layer {
   std::vector<float> bias_;  // per output channel (zeros without a bias blob)
 };
 
-std::mutex& RegistrationMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
 bool WeightsFit(const cv::dnn::LayerParams& params, int groups) {
   if (params.blobs.empty()) return false;
   const cv::Mat& w = params.blobs[0];
@@ -254,37 +247,33 @@ bool WeightsFit(const cv::dnn::LayerParams& params, int groups) {
          (params.blobs[1].type() == CV_32F && params.blobs[1].total() == static_cast<std::size_t>(w.size[0]));
 }
 
-}  // namespace
-
-bool GroupedConvolutionHandles(const cv::dnn::LayerParams& params) {
+// The geometry of `params` where the layer computes them (GroupedConvolutionHandles), else
+// nothing. Parses the params once.
+std::optional<ConvGeometry> HandledGeometry(const cv::dnn::LayerParams& params) {
   const int groups = params.get<int>("group", 1);
-  if (groups <= 1 || !WeightsFit(params, groups)) return false;
-  cv::dnn::LayerParams copy = params;
-  ConvGeometry g;
-  try {
-    g = GeometryOf(copy);
-  } catch (const cv::Exception&) {
-    return false;  // params OpenCV rejects (e.g. pads differing per side): its layer says why
-  }
-  if (!g.valid || g.kernel_h < 1 || g.kernel_w < 1 || g.dilation_h < 1 || g.dilation_w < 1) return false;
-  if (g.stride_h < 1 || g.stride_h > 2 || g.stride_w < 1 || g.stride_w > 2) return false;
-  if (g.pad_top < 0 || g.pad_left < 0 || g.pad_bottom < 0 || g.pad_right < 0) return false;
-  return params.blobs[0].size[2] == g.kernel_h && params.blobs[0].size[3] == g.kernel_w;
+  if (groups <= 1 || !WeightsFit(params, groups)) return std::nullopt;
+  const std::optional<ConvGeometry> parsed = ParsedGeometry(params);
+  if (!parsed) return std::nullopt;
+  const ConvGeometry& g = *parsed;
+  if (g.kernel_h < 1 || g.kernel_w < 1 || g.dilation_h < 1 || g.dilation_w < 1) return std::nullopt;
+  if (g.stride_h < 1 || g.stride_h > 2 || g.stride_w < 1 || g.stride_w > 2) return std::nullopt;
+  if (g.pad_top < 0 || g.pad_left < 0 || g.pad_bottom < 0 || g.pad_right < 0) return std::nullopt;
+  if (params.blobs[0].size[2] != g.kernel_h || params.blobs[0].size[3] != g.kernel_w) return std::nullopt;
+  return parsed;
 }
 
+}  // namespace
+
+bool GroupedConvolutionHandles(const cv::dnn::LayerParams& params) { return HandledGeometry(params).has_value(); }
+
 cv::Ptr<cv::dnn::Layer> CreateConvolutionLayer(cv::dnn::LayerParams& params) {
-  if (GroupedConvolutionHandles(params)) return cv::makePtr<GroupedConvolutionLayer>(params, GeometryOf(params));
+  if (const std::optional<ConvGeometry> geometry = HandledGeometry(params))
+    return cv::makePtr<GroupedConvolutionLayer>(params, *geometry);
   return cv::dnn::ConvolutionLayer::create(params);
 }
 
 bool IsGroupedConvolution(const cv::dnn::Layer& layer) {
   return dynamic_cast<const GroupedConvolutionLayer*>(&layer) != nullptr;
 }
-
-ScopedGroupedConvolution::ScopedGroupedConvolution() : lock_(RegistrationMutex()) {
-  cv::dnn::LayerFactory::registerLayer(kConvolutionType, CreateConvolutionLayer);
-}
-
-ScopedGroupedConvolution::~ScopedGroupedConvolution() { cv::dnn::LayerFactory::unregisterLayer(kConvolutionType); }
 
 }  // namespace esdslam

@@ -6,19 +6,18 @@
 // about 20 of the 39 ms of one ESPNetv2 call at 256x192 on one thread (docs/RESULTS.md,
 // "Grouped convolution and strided concat layers").
 //
-// Per output channel, the output plane starts at the bias; then, for each of the group's input
-// channels and each kernel tap, a shifted row of the input plane times the tap's weight is added
-// to each output row (a contiguous multiply-add along the row for stride 1, which the compiler
-// vectorises). Taps that fall on the zero padding are skipped, which is the same as adding
-// zero. The sums are OpenCV's up to float rounding (the order of the additions differs).
+// Per output channel, the output plane starts at zero; for each of the group's input channels
+// and each kernel tap, a shifted row of the input plane times the tap's weight is added to each
+// output row (a contiguous multiply-add along the row for stride 1, which the compiler
+// vectorises); the bias is added last. Taps that fall on the zero padding are skipped, which is
+// the same as adding zero. The sums are OpenCV's up to float rounding (the order of the additions
+// differs).
 //
 // Handled (GroupedConvolutionHandles): 2-D, explicit pads (no "SAME"/"VALID" pad mode), group
 // count > 1, at most kMaxInputsPerGroup input channels per group, strides 1 or 2, float weights
 // [out, in / group, kh, kw], optional bias. Everything else gets OpenCV's ConvolutionLayer.
 // The layer does not fuse a following BatchNorm or activation (OpenCV then runs those as their
 // own layers, which is the same computation).
-
-#include <mutex>
 
 #include <opencv2/dnn.hpp>
 
@@ -33,24 +32,11 @@ inline constexpr int kMaxInputsPerGroup = 8;
 bool GroupedConvolutionHandles(const cv::dnn::LayerParams& params);
 
 // The Convolution layer for `params`: the grouped one where GroupedConvolutionHandles, else
-// OpenCV's cv::dnn::ConvolutionLayer::create(params). A cv::dnn::LayerFactory constructor.
+// OpenCV's cv::dnn::ConvolutionLayer::create(params). A cv::dnn::LayerFactory constructor:
+// registered for "Convolution" with ScopedLayerConstructor (semantic/own_layer.h).
 cv::Ptr<cv::dnn::Layer> CreateConvolutionLayer(cv::dnn::LayerParams& params);
 
 // True when `layer` is the grouped layer (not OpenCV's).
 bool IsGroupedConvolution(const cv::dnn::Layer& layer);
-
-// While an instance lives, the "Convolution" layers OpenCV DNN creates come from
-// CreateConvolutionLayer (the same scoped, process-wide registration as ScopedSeparableResize in
-// semantic/resize_layer.h: one instance at a time, OpenCV's constructor restored afterwards).
-class ScopedGroupedConvolution {
- public:
-  ScopedGroupedConvolution();
-  ~ScopedGroupedConvolution();
-  ScopedGroupedConvolution(const ScopedGroupedConvolution&) = delete;
-  ScopedGroupedConvolution& operator=(const ScopedGroupedConvolution&) = delete;
-
- private:
-  std::unique_lock<std::mutex> lock_;
-};
 
 }  // namespace esdslam

@@ -12,6 +12,7 @@
 #include "common/timer.h"
 #include "semantic/concat_layer.h"
 #include "semantic/grouped_conv_layer.h"
+#include "semantic/own_layer.h"
 #include "semantic/resize_layer.h"
 #include "semantic/score_upsampling.h"
 
@@ -50,13 +51,11 @@ OnnxSegmenter::OnnxSegmenter(OnnxSegmenterOptions options) : options_(std::move(
   try {
     // This project's layers are registered for this import only (the importer creates every
     // layer). Lock order: Resize, Convolution, Concat.
-    std::optional<ScopedSeparableResize> separable;
-    if (options_.separable_resize) separable.emplace();
-    std::optional<ScopedGroupedConvolution> grouped;
-    std::optional<ScopedStridedConcat> strided;
+    std::optional<ScopedLayerConstructor> separable, grouped, strided;  // released in reverse
+    if (options_.separable_resize) separable.emplace("Resize", CreateResizeLayer);
     if (options_.own_layers) {
-      grouped.emplace();
-      strided.emplace();
+      grouped.emplace("Convolution", CreateConvolutionLayer);
+      strided.emplace("Concat", CreateConcatLayer);
     }
     net_ = cv::dnn::readNetFromONNX(options_.model_path);
   } catch (const cv::Exception& e) {

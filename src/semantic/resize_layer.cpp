@@ -8,10 +8,10 @@
 #include <opencv2/dnn/all_layers.hpp>
 #include <opencv2/dnn/layer.hpp>
 
+#include "semantic/own_layer.h"
+
 namespace esdslam {
 namespace {
-
-constexpr const char* kResizeType = "Resize";
 
 // Per output index along one axis: the two input indices blended and the weight of the second.
 // Invariants: 0 <= first <= second <= in - 1, second <= first + 1, 0 <= weight < 1 (up to float
@@ -52,7 +52,7 @@ bool PlanesContiguous(const cv::Mat& blob) {
          blob.step[2] == static_cast<std::size_t>(blob.size[3]) * sizeof(float);
 }
 
-class SeparableResizeLayer final : public cv::dnn::Layer {
+class SeparableResizeLayer final : public OwnLayer {
  public:
   explicit SeparableResizeLayer(const cv::dnn::LayerParams& params)
       : out_height_(params.get<int>("height")),
@@ -62,9 +62,6 @@ class SeparableResizeLayer final : public cv::dnn::Layer {
   }
 
   using cv::dnn::Layer::finalize;
-  using cv::dnn::Layer::forward;
-
-  bool supportBackend(int backend_id) override { return backend_id == cv::dnn::DNN_BACKEND_OPENCV; }
 
   // One input N x C x h x w (the ONNX importer gives a Resize one: its scales or sizes are
   // constants it folds into the params) -> N x C x height x width. True (may run in place) when
@@ -93,18 +90,7 @@ class SeparableResizeLayer final : public cv::dnn::Layer {
       rows_read_[static_cast<std::size_t>(rows_.first[y])] = rows_read_[static_cast<std::size_t>(rows_.second[y])] = 1;
   }
 
-  void forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
-               cv::OutputArrayOfArrays internals_arr) override {
-    const int depth = inputs_arr.depth();
-    if (preferableTarget == cv::dnn::DNN_TARGET_OPENCL_FP16 && (depth == CV_16S || depth == CV_16F)) {
-      // Half floats: OpenCV converts them to float and calls this again, as for its own layers
-      // (a path the tests do not take: the segmenter runs on the CPU target, in float).
-      forward_fallback(inputs_arr, outputs_arr, internals_arr);
-      return;
-    }
-    std::vector<cv::Mat> inputs, outputs;
-    inputs_arr.getMatVector(inputs);
-    outputs_arr.getMatVector(outputs);
+  void ForwardMats(const std::vector<cv::Mat>& inputs, std::vector<cv::Mat>& outputs) override {
     const cv::Mat& in = inputs[0];
     cv::Mat& out = outputs[0];
     if (in.size[2] == out.size[2] && in.size[3] == out.size[3]) {  // same size: a copy, or nothing in place
@@ -166,11 +152,6 @@ bool IsPixelCount(const cv::dnn::LayerParams& params, const std::string& key) {
   return value >= 1.0 && value == std::floor(value) && value < 1e6;
 }
 
-std::mutex& RegistrationMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
 }  // namespace
 
 bool SeparableResizeHandles(const cv::dnn::LayerParams& params) {
@@ -193,11 +174,5 @@ cv::Ptr<cv::dnn::Layer> CreateResizeLayer(cv::dnn::LayerParams& params) {
 bool IsSeparableResize(const cv::dnn::Layer& layer) {
   return dynamic_cast<const SeparableResizeLayer*>(&layer) != nullptr;
 }
-
-ScopedSeparableResize::ScopedSeparableResize() : lock_(RegistrationMutex()) {
-  cv::dnn::LayerFactory::registerLayer(kResizeType, CreateResizeLayer);
-}
-
-ScopedSeparableResize::~ScopedSeparableResize() { cv::dnn::LayerFactory::unregisterLayer(kResizeType); }
 
 }  // namespace esdslam

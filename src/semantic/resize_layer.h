@@ -19,8 +19,6 @@
 // Other params (nearest, half-pixel centres, "opencv_linear", zoom factors) get OpenCV's own
 // ResizeLayer.
 
-#include <mutex>
-
 #include <opencv2/dnn.hpp>
 
 namespace esdslam {
@@ -29,28 +27,11 @@ namespace esdslam {
 bool SeparableResizeHandles(const cv::dnn::LayerParams& params);
 
 // The Resize layer for `params`: the separable one where SeparableResizeHandles, else OpenCV's
-// cv::dnn::ResizeLayer::create(params). The signature of a cv::dnn::LayerFactory constructor.
+// cv::dnn::ResizeLayer::create(params). A cv::dnn::LayerFactory constructor: registered for
+// "Resize" with ScopedLayerConstructor (semantic/own_layer.h).
 cv::Ptr<cv::dnn::Layer> CreateResizeLayer(cv::dnn::LayerParams& params);
 
 // True when `layer` is the separable layer (not OpenCV's).
 bool IsSeparableResize(const cv::dnn::Layer& layer);
-
-// While an instance lives, the "Resize" layers that OpenCV DNN creates (cv::dnn::readNetFromONNX
-// creates every layer while importing; Net::addLayer) come from CreateResizeLayer. OpenCV's
-// LayerFactory keeps a stack of constructors per type: registering pushes CreateResizeLayer on
-// top of OpenCV's own, and the destructor pops it, so OpenCV's constructor is the one in force
-// again afterwards. The registration is process-wide: one instance at a time (a static mutex,
-// held for the instance's life), and a net loaded on another thread meanwhile also gets the
-// separable layer where it applies. Nets already loaded keep the layers they were built with.
-class ScopedSeparableResize {
- public:
-  ScopedSeparableResize();
-  ~ScopedSeparableResize();
-  ScopedSeparableResize(const ScopedSeparableResize&) = delete;
-  ScopedSeparableResize& operator=(const ScopedSeparableResize&) = delete;
-
- private:
-  std::unique_lock<std::mutex> lock_;
-};
 
 }  // namespace esdslam

@@ -4,8 +4,6 @@
 // registrations, and the shipped ESPNetv2 model loaded with and without them.
 #include "semantic/grouped_conv_layer.h"
 
-#include <algorithm>
-#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,15 +11,14 @@
 #include <gtest/gtest.h>
 #include <opencv2/dnn.hpp>
 #include <opencv2/dnn/shape_utils.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "semantic/concat_layer.h"
 #include "semantic/onnx_segmenter.h"
-#include "support/test_paths.h"
+#include "semantic/own_layer.h"
+#include "support/shipped_segmenter.h"
 
 namespace esdslam {
 namespace {
-namespace fs = std::filesystem;
 
 // A deterministic blob of `shape` with values in [-1, 1).
 cv::Mat NoiseBlob(const std::vector<int>& shape, int seed) {
@@ -59,11 +56,10 @@ cv::dnn::LayerParams ConvParams(const ConvCase& c, int seed) {
 cv::Mat RunLayer(const cv::dnn::LayerParams& params, const std::vector<cv::Mat>& blobs, bool ours, bool* is_ours) {
   cv::dnn::Net net;
   {
-    std::optional<ScopedGroupedConvolution> grouped;
-    std::optional<ScopedStridedConcat> strided;
+    std::optional<ScopedLayerConstructor> grouped, strided;
     if (ours) {
-      grouped.emplace();
-      strided.emplace();
+      grouped.emplace("Convolution", CreateConvolutionLayer);
+      strided.emplace("Concat", CreateConcatLayer);
     }
     cv::dnn::LayerParams copy = params;
     const int id = net.addLayer(params.name, params.type, copy);
@@ -207,8 +203,8 @@ TEST(OwnLayers, RegistrationLastsForTheScopeOnly) {
   cv::dnn::LayerParams conv = ConvParams(ConvCase{}, 70);
   cv::dnn::LayerParams concat = ConcatParams(3);
   {
-    ScopedGroupedConvolution grouped;
-    ScopedStridedConcat strided;
+    ScopedLayerConstructor grouped("Convolution", CreateConvolutionLayer);
+    ScopedLayerConstructor strided("Concat", CreateConcatLayer);
     EXPECT_TRUE(IsGroupedConvolution(*cv::dnn::LayerFactory::createLayerInstance("Convolution", conv)));
     EXPECT_TRUE(IsStridedConcat(*cv::dnn::LayerFactory::createLayerInstance("Concat", concat)));
   }
@@ -222,35 +218,12 @@ TEST(OwnLayers, RegistrationLastsForTheScopeOnly) {
 
 // --- The shipped model with and without the layers ---
 
-OnnxSegmenter ShippedSegmenter(bool own_layers) {
-  OnnxSegmenterOptions o;
-  o.model_path = ::esdslam::testing::SourceDir() + "/models/espnetv2_s2.0_voc_256x192.onnx";
-  o.input_width = 256;
-  o.input_height = 192;
-  o.own_layers = own_layers;
-  return OnnxSegmenter(o);
-}
-
-// Both segmenters on `bgr`: scores within 1e-4 of the largest score magnitude, the same argmax
-// on >= 99.9 % of the pixels.
-void ExpectSameScores(OnnxSegmenter& ours, OnnxSegmenter& reference, const cv::Mat& bgr, const std::string& what) {
-  const std::vector<cv::Mat> mine = ours.Scores(bgr), theirs = reference.Scores(bgr);
-  ASSERT_EQ(mine.size(), theirs.size());
-  double largest_error = 0, largest_score = 0;
-  for (std::size_t c = 0; c < mine.size(); ++c) {
-    largest_error = std::max(largest_error, cv::norm(mine[c], theirs[c], cv::NORM_INF));
-    largest_score = std::max(largest_score, cv::norm(theirs[c], cv::NORM_INF));
-  }
-  const cv::Mat labels = ArgmaxLabels(mine), reference_labels = ArgmaxLabels(theirs);
-  const double agreement = cv::countNonZero(labels == reference_labels) / static_cast<double>(labels.total());
-  std::printf("%s: largest score difference %.3g (largest score %.3g), labels agree on %.4f%%\n", what.c_str(),
-              largest_error, largest_score, 100.0 * agreement);
-  EXPECT_LE(largest_error, 1e-4 * largest_score) << what;
-  EXPECT_GE(agreement, 0.999) << what;
-}
+using ::esdslam::testing::ExpectSameScores;
+using ::esdslam::testing::ShippedSegmenter;
 
 TEST(OwnLayers, ShippedModelGivesOpenCvsScores) {
-  OnnxSegmenter ours = ShippedSegmenter(true), reference = ShippedSegmenter(false);
+  OnnxSegmenter ours = ShippedSegmenter(/*separable_resize=*/true, /*own_layers=*/true),
+                reference = ShippedSegmenter(/*separable_resize=*/true, /*own_layers=*/false);
   EXPECT_EQ(ours.grouped_convolution_layers(), 87);  // 80 depthwise + 7 small grouped
   EXPECT_EQ(ours.strided_concat_layers(), 8);        // 2 interleaves in each of the 4 decoder stages
   EXPECT_EQ(reference.grouped_convolution_layers(), 0);
@@ -258,18 +231,7 @@ TEST(OwnLayers, ShippedModelGivesOpenCvsScores) {
   cv::Mat noise(480, 640, CV_8UC3);
   cv::RNG(7).fill(noise, cv::RNG::UNIFORM, 0, 256);
   ExpectSameScores(ours, reference, noise, "noise image");
-  const fs::path rgb = fs::path(::esdslam::testing::TestDataDir()) / "data" / "bonn_crowd_dev" / "rgb";
-  if (!fs::is_directory(rgb)) GTEST_SKIP() << "no Bonn frames at " << rgb;
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(rgb))
-    if (entry.path().extension() == ".png") files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
-  ASSERT_FALSE(files.empty());
-  for (std::size_t i : {std::size_t{0}, files.size() / 2, files.size() - 1}) {
-    const cv::Mat bgr = cv::imread(files[i].string(), cv::IMREAD_COLOR);
-    ASSERT_FALSE(bgr.empty()) << files[i];
-    ExpectSameScores(ours, reference, bgr, files[i].filename().string());
-  }
+  ::esdslam::testing::ExpectSameScoresOnBonnFrames(ours, reference);
 }
 
 }  // namespace

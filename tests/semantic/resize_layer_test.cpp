@@ -3,8 +3,6 @@
 // shipped ESPNetv2 model loaded with and without it.
 #include "semantic/resize_layer.h"
 
-#include <algorithm>
-#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,14 +10,14 @@
 #include <gtest/gtest.h>
 #include <opencv2/dnn.hpp>
 #include <opencv2/dnn/shape_utils.hpp>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "semantic/onnx_segmenter.h"
-#include "support/test_paths.h"
+#include "semantic/own_layer.h"
+#include "support/shipped_segmenter.h"
 
 namespace esdslam {
 namespace {
-namespace fs = std::filesystem;
 
 cv::dnn::LayerParams ResizeParams(int width, int height, bool align_corners, const std::string& mode) {
   cv::dnn::LayerParams params;
@@ -45,8 +43,8 @@ cv::Mat NoiseBlob(const std::vector<int>& shape, int seed) {
 cv::Mat RunResize(const cv::dnn::LayerParams& params, const cv::Mat& blob, bool separable, bool* is_separable) {
   cv::dnn::Net net;
   {
-    std::optional<ScopedSeparableResize> scope;
-    if (separable) scope.emplace();
+    std::optional<ScopedLayerConstructor> scope;
+    if (separable) scope.emplace("Resize", CreateResizeLayer);
     cv::dnn::LayerParams copy = params;
     const int id = net.addLayerToPrev(params.name, params.type, copy);
     *is_separable = IsSeparableResize(*net.getLayer(id));  // getLayer creates the instance
@@ -145,14 +143,14 @@ TEST(SeparableResize, OtherParamsGetOpenCvsLayer) {
 TEST(SeparableResize, RegistrationLastsForTheScopeOnly) {
   cv::dnn::LayerParams params = ResizeParams(32, 24, true, "align_corners");
   {
-    ScopedSeparableResize scope;
+    ScopedLayerConstructor scope("Resize", CreateResizeLayer);
     EXPECT_TRUE(IsSeparableResize(*cv::dnn::LayerFactory::createLayerInstance("Resize", params)));
   }
   const cv::Ptr<cv::dnn::Layer> after = cv::dnn::LayerFactory::createLayerInstance("Resize", params);
   ASSERT_FALSE(after.empty());  // OpenCV's constructor is back, not unregistered
   EXPECT_FALSE(IsSeparableResize(*after));
   {
-    ScopedSeparableResize again;  // and a second registration works as the first
+    ScopedLayerConstructor again("Resize", CreateResizeLayer);  // a second registration works as the first
     EXPECT_TRUE(IsSeparableResize(*cv::dnn::LayerFactory::createLayerInstance("Resize", params)));
   }
   EXPECT_FALSE(IsSeparableResize(*cv::dnn::LayerFactory::createLayerInstance("Resize", params)));
@@ -160,35 +158,12 @@ TEST(SeparableResize, RegistrationLastsForTheScopeOnly) {
 
 // --- The shipped model with and without the separable layer ---
 
-OnnxSegmenter ShippedSegmenter(bool separable_resize) {
-  OnnxSegmenterOptions o;
-  o.model_path = ::esdslam::testing::SourceDir() + "/models/espnetv2_s2.0_voc_256x192.onnx";
-  o.input_width = 256;
-  o.input_height = 192;
-  o.separable_resize = separable_resize;
-  return OnnxSegmenter(o);
-}
-
-// Scores of both segmenters on `bgr`: within 1e-4 of the largest score magnitude, and the same
-// argmax on >= 99.9 % of the pixels.
-void ExpectSameScores(OnnxSegmenter& separable, OnnxSegmenter& reference, const cv::Mat& bgr, const std::string& what) {
-  const std::vector<cv::Mat> ours = separable.Scores(bgr), theirs = reference.Scores(bgr);
-  ASSERT_EQ(ours.size(), theirs.size());
-  double largest_error = 0, largest_score = 0;
-  for (std::size_t c = 0; c < ours.size(); ++c) {
-    largest_error = std::max(largest_error, cv::norm(ours[c], theirs[c], cv::NORM_INF));
-    largest_score = std::max(largest_score, cv::norm(theirs[c], cv::NORM_INF));
-  }
-  const cv::Mat labels = ArgmaxLabels(ours), reference_labels = ArgmaxLabels(theirs);
-  const double agreement = cv::countNonZero(labels == reference_labels) / static_cast<double>(labels.total());
-  std::printf("%s: largest score difference %.3g (largest score %.3g), labels agree on %.4f%%\n", what.c_str(),
-              largest_error, largest_score, 100.0 * agreement);
-  EXPECT_LE(largest_error, 1e-4 * largest_score) << what;
-  EXPECT_GE(agreement, 0.999) << what;
-}
+using ::esdslam::testing::ExpectSameScores;
+using ::esdslam::testing::ShippedSegmenter;
 
 TEST(SeparableResize, ShippedModelGivesOpenCvsScores) {
-  OnnxSegmenter separable = ShippedSegmenter(true), reference = ShippedSegmenter(false);
+  OnnxSegmenter separable = ShippedSegmenter(/*separable_resize=*/true, /*own_layers=*/true),
+                reference = ShippedSegmenter(/*separable_resize=*/false, /*own_layers=*/true);
   EXPECT_EQ(separable.separable_resize_layers(), 20);  // every Resize of ESPNetv2's decoder
   EXPECT_EQ(reference.separable_resize_layers(), 0);
   cv::Mat noise(480, 640, CV_8UC3);
@@ -203,19 +178,9 @@ TEST(SeparableResize, ShippedModelGivesOpenCvsScores) {
 }
 
 TEST(SeparableResize, ShippedModelGivesOpenCvsScoresOnBonnFrames) {
-  const fs::path rgb = fs::path(::esdslam::testing::TestDataDir()) / "data" / "bonn_crowd_dev" / "rgb";
-  if (!fs::is_directory(rgb)) GTEST_SKIP() << "no Bonn frames at " << rgb;
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(rgb))
-    if (entry.path().extension() == ".png") files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
-  ASSERT_FALSE(files.empty());
-  OnnxSegmenter separable = ShippedSegmenter(true), reference = ShippedSegmenter(false);
-  for (std::size_t i : {std::size_t{0}, files.size() / 2, files.size() - 1}) {  // first, middle, last
-    const cv::Mat bgr = cv::imread(files[i].string(), cv::IMREAD_COLOR);
-    ASSERT_FALSE(bgr.empty()) << files[i];
-    ExpectSameScores(separable, reference, bgr, files[i].filename().string());
-  }
+  OnnxSegmenter separable = ShippedSegmenter(/*separable_resize=*/true, /*own_layers=*/true),
+                reference = ShippedSegmenter(/*separable_resize=*/false, /*own_layers=*/true);
+  ::esdslam::testing::ExpectSameScoresOnBonnFrames(separable, reference);
 }
 
 }  // namespace
