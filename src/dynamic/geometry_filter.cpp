@@ -16,6 +16,7 @@ namespace esdslam {
 void GeometryFilterOptions::Check() const {
   check.Check();
   CheckRange("Dynamic.check.referenceKeyframes", reference_keyframes, 1, 100);
+  CheckRange("Dynamic.check.minReferenceAge", min_reference_age_s, 0.0, 10.0);
   CheckRange("Dynamic.check.keyframeDepthCapacity", keyframe_depth_capacity, 0, 100000);
   CheckRange("Dynamic.check.keyframeDepthScale", keyframe_depth_scale, 0.05, 1.0);
   CheckRange("Dynamic.check.cullAfterFrames", cull_after_frames, 0, 1000);
@@ -111,11 +112,14 @@ std::vector<KeyFrame*> GeometryFilter::SelectKeyFrames(const Frame& frame) const
   }
   std::vector<KeyFrame*> candidates;
   std::vector<int> counts;
+  std::vector<double> times_s;
   for (const auto& [keyframe, count] : shared) {
     if (keyframe->is_bad()) continue;
     candidates.push_back(keyframe);
     counts.push_back(count);
+    times_s.push_back(keyframe->timestamp());
   }
+  counts = WithoutYoungKeyframes(counts, times_s, frame.timestamp(), options_.min_reference_age_s);
   std::vector<KeyFrame*> chosen;
   for (const int k : SelectReferenceKeyframes(counts, options_.reference_keyframes)) chosen.push_back(candidates[k]);
   return chosen;

@@ -22,6 +22,20 @@ std::vector<int> SelectReferenceKeyframes(const std::vector<int>& shared_point_c
   return chosen;
 }
 
+std::vector<int> WithoutYoungKeyframes(std::vector<int> shared_point_counts, const std::vector<double>& keyframe_times_s,
+                                       double frame_time_s, double min_age_s) {
+  if (keyframe_times_s.size() != shared_point_counts.size())
+    throw Error("WithoutYoungKeyframes: one keyframe time per count expected");
+  const double newest_s = frame_time_s - min_age_s;
+  bool any_old_enough = false;
+  for (std::size_t k = 0; k < shared_point_counts.size(); ++k)
+    any_old_enough |= shared_point_counts[k] > 0 && keyframe_times_s[k] <= newest_s;
+  if (!any_old_enough) return shared_point_counts;
+  for (std::size_t k = 0; k < shared_point_counts.size(); ++k)
+    if (keyframe_times_s[k] > newest_s) shared_point_counts[k] = 0;
+  return shared_point_counts;
+}
+
 std::vector<int> SelectKeyframesByViewOverlap(const PinholeCamera& camera, const Rigid3& cam_from_world,
                                               const std::vector<Rigid3>& keyframe_world_from_cams,
                                               double scene_depth_m, int max_count, double max_parallax_deg) {

@@ -14,6 +14,12 @@ namespace esdslam {
 // sharing nothing are never chosen.
 std::vector<int> SelectReferenceKeyframes(const std::vector<int>& shared_point_counts, int max_count = 5);
 
+// The counts with those of keyframes younger than `min_age_s` (timestamp after frame_time_s -
+// min_age_s) set to 0, when an old enough keyframe shares points; unchanged when none does (the
+// first keyframes of a run). keyframe_times_s: one per count (s, the frames' clock).
+std::vector<int> WithoutYoungKeyframes(std::vector<int> shared_point_counts, const std::vector<double>& keyframe_times_s,
+                                       double frame_time_s, double min_age_s);
+
 // Without correspondences: a 16 x 12 grid of each keyframe's pixels, back-projected at
 // `scene_depth_m`, is projected into the current camera; the score is the number of grid points
 // that land in the image with a parallax angle <= max_parallax_deg. Returns the `max_count`

@@ -163,6 +163,7 @@ void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
   table.Add("Dynamic.check.maxMaskRadius", &g.max_mask_radius_px);
   BindGrowing("Dynamic.check.grow.", g.growing, table);
   table.Add("Dynamic.check.referenceKeyframes", &run.geometry.reference_keyframes);
+  table.Add("Dynamic.check.minReferenceAge", &run.geometry.min_reference_age_s);
   table.Add("Dynamic.check.keyframeDepthCapacity", &run.geometry.keyframe_depth_capacity);
   table.Add("Dynamic.check.keyframeDepthScale", &run.geometry.keyframe_depth_scale);
   table.Add("Dynamic.check.cullAfterFrames", &run.geometry.cull_after_frames);

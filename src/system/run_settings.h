@@ -16,7 +16,8 @@
 //     = every K-th frame, predicted masks between (dynamic/semantic_front_end.h)
 //   Semantic.labelDelay: labels used from this many frames after their frame on (default 2)
 // Dynamic.* keys: Dynamic.grow.* (RegionGrowingOptions) and Dynamic.check.* (GeometryFilterOptions:
-// the check itself, its own region growing under Dynamic.check.grow.*, reference keyframes,
+// the check itself, its own region growing under Dynamic.check.grow.*, reference keyframes and
+// their minimum age Dynamic.check.minReferenceAge (s),
 // keyframe depth kept, culling), see BindDynamicSettings in run_settings.cpp.
 
 #include <string>

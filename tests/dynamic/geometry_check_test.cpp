@@ -231,6 +231,17 @@ TEST(ReferenceKeyframes, PicksMostSharedAndMostOverlapping) {
   EXPECT_EQ(std::count(chosen.begin(), chosen.end(), 2), 0);
 }
 
+// Current frame at t = 10 s, minimum age 0.25 s: keyframes from 9.8 and 9.9 s drop out when an
+// older one shares points; with none old enough (the start of a run) all stay.
+TEST(ReferenceKeyframes, DropsYoungKeyframesWhenOldOnesShare) {
+  EXPECT_EQ(WithoutYoungKeyframes({40, 90, 70, 0}, {9.0, 9.8, 9.75, 5.0}, 10.0, 0.25), (std::vector<int>{40, 0, 70, 0}));
+  EXPECT_EQ(WithoutYoungKeyframes({0, 90, 70}, {5.0, 9.8, 9.9}, 10.0, 0.25), (std::vector<int>{0, 90, 70}));
+  EXPECT_EQ(WithoutYoungKeyframes({10, 90}, {9.8, 9.9}, 10.0, 0.0), (std::vector<int>{10, 90}));
+  EXPECT_EQ(SelectReferenceKeyframes(WithoutYoungKeyframes({40, 90, 70}, {9.0, 9.9, 8.0}, 10.0, 0.25), 5),
+            (std::vector<int>{2, 0}));
+  EXPECT_THROW(WithoutYoungKeyframes({1, 2}, {1.0}, 10.0, 0.25), Error);
+}
+
 // Depth images are sensor images: with lens distortion a projection must be distorted before the
 // depth is read. Current depth (raw grid): 3 m, with a 1 m block over raw columns u >= 582.
 TEST(GeometryCheck, ReadsDepthAtTheDistortedPixel) {
