@@ -42,9 +42,9 @@ struct GeometryFilterOptions {
   GeometryCheckOptions check;
   int reference_keyframes = 5;        // keyframes sharing the most map points with the frame
   // Only keyframes at least this much older than the frame (s) are references, when any such
-  // keyframe shares points: a mover must have had time to move (1 m/s walking: 15 cm in 0.15 s),
+  // keyframe shares points: a mover must have had time to move (1 m/s walking: 25 cm in 0.25 s),
   // and a keyframe taken while the pose drifted with a mover cannot vouch for it. 0 = any age.
-  double min_reference_age_s = 0.15;
+  double min_reference_age_s = 0.25;
   int keyframe_depth_capacity = 100;  // keyframe depth images kept for the veto (0 = points only)
   double keyframe_depth_scale = 0.5;  // ... at this scale (0.5: 0.3 MB per VGA keyframe)
   int cull_after_frames = 3;          // consecutive tested frames with evidence before culling (0 = never cull)

@@ -123,7 +123,7 @@ TEST(GeometryFilterTest, CullsMapPointsOfMoversOnceTheyMove) {
 // it, there is nothing to compare) and flags almost nothing static. (Without local mapping the
 // keypoints it misses make keyframe points on the movers, so the pose is not asserted here; the
 // system test runs geometry mode with local mapping. Its pose drifts 0.2-0.35 m here, and with
-// references at least 0.15 s old one frame of the 30 can go untracked.)
+// references at least 0.25 s old one frame of the 30 can go untracked.)
 TEST(GeometryFilterTest, FindsMovingKeypointsWithoutSemantics) {
   const FilterRun run = RunWithFilter(Masks::kFirstFrameOnly);
   EXPECT_GE(run.tracked, kFrames - 1);
