@@ -122,12 +122,11 @@ TEST(GeometryFilterTest, CullsMapPointsOfMoversOnceTheyMove) {
 // keypoints (two thirds here: where a mover has not uncovered what the keyframes saw behind
 // it, there is nothing to compare) and flags almost nothing static. (Without local mapping the
 // keypoints it misses make keyframe points on the movers, so the pose is not asserted here; the
-// system test runs geometry mode with local mapping. Its pose drifts 0.2-0.35 m here, and with
-// references at least 0.25 s old one frame of the 30 can go untracked.)
+// system test runs geometry mode with local mapping.)
 TEST(GeometryFilterTest, FindsMovingKeypointsWithoutSemantics) {
   const FilterRun run = RunWithFilter(Masks::kFirstFrameOnly);
-  EXPECT_GE(run.tracked, kFrames - 1);
-  EXPECT_GE(run.checked, run.tracked - 1);  // every tracked frame after the first (which makes the map)
+  EXPECT_EQ(run.tracked, kFrames);
+  EXPECT_EQ(run.checked, kFrames - 1);  // every frame after the first (which makes the map)
   ASSERT_GT(run.on_movers, 1000);
   EXPECT_GE(static_cast<double>(run.flagged_on_movers) / std::max(1, run.flagged), 0.9);  // precision
   EXPECT_GE(static_cast<double>(run.flagged_on_movers) / run.on_movers, 0.5);            // recall
