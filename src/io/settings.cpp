@@ -13,6 +13,9 @@ void Settings::Check() const {
   CheckRange("DepthMapFactor", depth_map_factor, 1.0, 1e5);
   CheckRange("ThDepth", th_depth, 1.0, 1000.0, "baselines");
   CheckRange("Camera.bf", bf, 0.1, 1e5, "m*px");
+  // At most a frame period of a 10 Hz camera; a readout longer than the frame period is impossible.
+  CheckRange("Camera.readoutTime", readout_time_s, 0.0, 0.1, "s");
+  CheckSetting(readout_time_s <= 1.0 / fps, "Camera.readoutTime", "must not exceed the frame period 1 / Camera.fps");
   CheckSetting(rgb_order == 0 || rgb_order == 1, "Camera.RGB", "must be 0 (BGR) or 1 (RGB)");
   CheckSetting(file_version.empty() || file_version == "1.0", "File.version",
                "only ORB-SLAM3's \"1.0\" format is known, got \"" + file_version + "\"");
@@ -47,6 +50,7 @@ void BindCoreSettings(Settings& settings, SettingsTable& table) {
   table.Add("Camera.height", &camera.height);
   table.Add("Camera.fps", &settings.fps);
   table.Add("Camera.bf", &settings.bf);
+  table.Add("Camera.readoutTime", &settings.readout_time_s);
   table.Add("Camera.RGB", &settings.rgb_order);
   table.Add("ThDepth", &settings.th_depth);
   table.Add("DepthMapFactor", &settings.depth_map_factor);

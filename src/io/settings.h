@@ -24,6 +24,9 @@ struct Settings {
   double depth_map_factor = 5000; // DepthMapFactor: depth PNG value per metre
   double th_depth = 40;           // ThDepth: close/far point threshold, in multiples of the baseline
   double bf = 40;                 // Camera.bf = baseline (m) * fx (px)
+  // Camera.readoutTime: seconds from the first to the last image row of a rolling-shutter colour
+  // camera (0 = global shutter, no correction). Not an ORB-SLAM2 key.
+  double readout_time_s = 0;
   int rgb_order = 1;              // Camera.RGB: 1 = images are RGB, 0 = BGR
   OrbOptions orb;                 // ORBextractor.*
   // ORB-SLAM3 keys read on input only (not saved): File.version ("" or "1.0"), Camera.type

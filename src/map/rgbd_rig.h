@@ -23,6 +23,10 @@ struct RgbdRig {
   PinholeCamera camera;
   double bf = 40.0;         // px * m: focal length times virtual baseline (Camera.bf)
   double th_depth_m = 3.0;  // "close" keypoints have depth in (0, th_depth_m): ThDepth * bf / fx
+  // Rolling shutter of the colour camera: seconds from the first to the last row (0 = global
+  // shutter). Row r is exposed at (r / (height - 1) - 0.5) * readout_time_s after the frame's
+  // timestamp, which stands for the middle row.
+  double readout_time_s = 0.0;
   ScalePyramid pyramid;
 };
 

@@ -23,7 +23,7 @@ SlamSystem::SlamSystem(const Settings& settings, const SlamOptions& options)
   settings_.Check();
   options_.Check();
   extractor_ = std::make_unique<OrbExtractor>(settings_.orb);
-  rig_ = MakeRgbdRig(settings_.camera, settings_.bf, settings_.th_depth, *extractor_);
+  rig_ = MakeRgbdRig(settings_.camera, settings_.bf, settings_.th_depth, *extractor_, settings_.readout_time_s);
   map_ = std::make_unique<Map>();
   mapper_ = std::make_unique<LocalMapper>(map_.get(), options_.mapping, !options_.single_thread);
   KeyFrameSink* sink = mapper_.get();

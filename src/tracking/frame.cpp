@@ -1,5 +1,7 @@
 #include "tracking/frame.h"
 
+#include <algorithm>
+
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
@@ -8,10 +10,12 @@
 namespace esdslam {
 
 std::shared_ptr<const RgbdRig> MakeRgbdRig(const CameraIntrinsics& intrinsics, double bf, double th_depth,
-                                           const OrbExtractor& extractor) {
+                                           const OrbExtractor& extractor, double readout_time_s) {
+  if (!(readout_time_s >= 0.0 && readout_time_s <= 1.0)) throw Error("MakeRgbdRig: readout time must be in [0, 1] s");
   auto rig = std::make_shared<RgbdRig>();
   rig->camera = PinholeCamera(intrinsics);
   rig->bf = bf;
+  rig->readout_time_s = readout_time_s;
   rig->th_depth_m = th_depth * bf / intrinsics.fx;
   ScalePyramid& pyramid = rig->pyramid;
   pyramid.num_levels = extractor.num_levels();
@@ -138,6 +142,32 @@ void Frame::MarkDynamic(int i, std::uint8_t reason) {
   features_->is_dynamic[i] = reason;
   map_points[i] = nullptr;
   outlier[i] = false;
+}
+
+void Frame::CompensateRollingShutter(const Vec3& angular_velocity_cam) {
+  const RgbdRig& rig = *features_->rig;
+  if (rig.readout_time_s <= 0.0) return;
+  if (features_.use_count() != 1)
+    throw Error("Frame::CompensateRollingShutter: the features are already shared with a keyframe");
+  if (extracted_undistorted_.empty()) extracted_undistorted_ = features_->undistorted;
+  const PinholeCamera& camera = rig.camera;
+  const double last_row = std::max(1, camera.height() - 1);
+  std::vector<int> levels(static_cast<std::size_t>(size()));
+  for (int i = 0; i < size(); ++i) {
+    levels[i] = features_->level(i);
+    // Seen at row time tau, the point's direction is exp([w]x tau) times its middle-row direction.
+    const double tau_s = (features_->keypoints[i].pt.y / last_row - 0.5) * rig.readout_time_s;
+    const Mat3 middle_from_row = ExpSO3(-tau_s * angular_velocity_cam);
+    const cv::Point2f& seen = extracted_undistorted_[i];
+    const Vec3 ray = middle_from_row * Vec3((seen.x - camera.cx()) / camera.fx(), (seen.y - camera.cy()) / camera.fy(), 1.0);
+    cv::Point2f& corrected = features_->undistorted[i];
+    corrected = ray.z() > 0 ? cv::Point2f(static_cast<float>(camera.fx() * ray.x() / ray.z() + camera.cx()),
+                                          static_cast<float>(camera.fy() * ray.y() / ray.z() + camera.cy()))
+                            : seen;
+    if (features_->depth[i] > 0) features_->right_u[i] = static_cast<float>(corrected.x - rig.bf / features_->depth[i]);
+  }
+  features_->grid = std::make_unique<FeatureGrid>(features_->undistorted, levels, camera.min_u(), camera.max_u(),
+                                                  camera.min_v(), camera.max_v());
 }
 
 int Frame::NumWithDepth() const {

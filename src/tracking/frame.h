@@ -28,7 +28,7 @@ struct FrameOptions {
 // The shared constants of a run: camera, bf, close-depth threshold (th_depth * bf / fx metres,
 // as ORB-SLAM2's ThDepth) and the extractor's scale pyramid.
 std::shared_ptr<const RgbdRig> MakeRgbdRig(const CameraIntrinsics& intrinsics, double bf, double th_depth,
-                                           const OrbExtractor& extractor);
+                                           const OrbExtractor& extractor, double readout_time_s = 0.0);
 
 // Where a map point falls in a frame (see Frame::ProjectInFrustum); pixels undistorted.
 struct PointProjection {
@@ -68,6 +68,13 @@ class Frame {
   // the camera, inside the image, within the point's scale-invariance distance range and seen at
   // an angle with cos >= min_view_cos to its mean viewing direction, else nothing.
   std::optional<PointProjection> ProjectInFrustum(MapPoint* point, double min_view_cos) const;
+  // Rolling shutter (rig().readout_time_s > 0; else nothing happens): moves each keypoint's
+  // undistorted position (and virtual right u) to where it would be seen at the middle row's time,
+  // for a camera turning at `angular_velocity_cam` (rad/s, in the camera frame: a static point's
+  // camera coordinates change as X(t + dt) = exp([w]x dt) X(t)). Always starts from the positions
+  // as extracted, so a second call replaces the first one's correction. Only while no keyframe
+  // shares the features; throws Error otherwise.
+  void CompensateRollingShutter(const Vec3& angular_velocity_cam);
   // Keypoint count with depth.
   int NumWithDepth() const;
   // Clears the associations to map points set bad (culled) since they were made.
@@ -87,6 +94,9 @@ class Frame {
   long id_ = -1;
   double timestamp_ = 0;
   std::shared_ptr<FeatureSet> features_;  // shared with keyframes as const (see MarkDynamic)
+  // Undistorted keypoint positions as extracted, before any rolling-shutter correction (empty
+  // until the first CompensateRollingShutter call).
+  std::vector<cv::Point2f> extracted_undistorted_;
   cv::Mat depth_m_;
 };
 

@@ -13,6 +13,16 @@
 #include "tracking/relocalizer.h"
 
 namespace esdslam {
+namespace {
+
+// Rolling shutter: the keypoints moved to the middle row's time, for the rotation rate of the
+// camera motion cam_from_last over interval_s (nothing for a global-shutter rig or a bad interval).
+void CompensateRollingShutter(const Rigid3& cam_from_last, double interval_s, Frame* frame) {
+  if (frame->rig().readout_time_s <= 0.0 || !(interval_s > 0.0)) return;
+  frame->CompensateRollingShutter(LogSO3(cam_from_last.rotation().toRotationMatrix()) / interval_s);
+}
+
+}  // namespace
 
 const char* ToString(TrackingState state) {
   switch (state) {
@@ -62,8 +72,13 @@ TrackingResult Tracker::Track(Frame* frame, MovingKeypointFilter* moving_filter)
       if (state_ == TrackingState::kOk && velocity_valid_) predicted_cam_from_world_ = velocity_ * last_frame_.cam_from_world;
       if (state_ == TrackingState::kOk) {
         ReplaceMovedPointsInLastFrame();
+        if (velocity_valid_) CompensateRollingShutter(velocity_, velocity_interval_s_, frame);
         if (velocity_valid_) tracked = TrackWithMotionModel(frame);
         if (!tracked) tracked = TrackReferenceKeyFrame(frame);
+        // Again with this frame's own rotation rate, now that it has a pose.
+        if (tracked && last_frame_.has_pose)
+          CompensateRollingShutter(frame->cam_from_world * last_frame_.cam_from_world.inverse(),
+                                   frame->timestamp() - last_frame_.timestamp(), frame);
       } else {
         // LOST: global BoW relocalization, else retry against the last local map.
         if (relocalizer_ != nullptr) tracked = Relocalize(frame);
@@ -258,6 +273,7 @@ void Tracker::Finish(Frame* frame, bool tracked) {
   if (tracked) {
     velocity_valid_ = last_frame_.valid() && last_frame_.has_pose;
     if (velocity_valid_) velocity_ = frame->cam_from_world * last_frame_.cam_from_world.inverse();
+    if (velocity_valid_) velocity_interval_s_ = frame->timestamp() - last_frame_.timestamp();
     for (int i = 0; i < frame->size(); ++i) {
       MapPoint* point = frame->map_points[i];
       if (point == nullptr) continue;

@@ -141,6 +141,7 @@ class Tracker {
   Rigid3 last_cam_from_reference_;  // last_frame_'s pose relative to its reference keyframe
   bool velocity_valid_ = false;
   Rigid3 velocity_;  // current cam_from_last cam
+  double velocity_interval_s_ = 0;  // the time between the two frames velocity_ was measured on
   KeyFrame* last_good_reference_ = nullptr;  // the last tracked frame's reference (null: none yet)
   Rigid3 last_good_cam_from_reference_;
   KeyFrame* reference_keyframe_ = nullptr;
