@@ -45,15 +45,18 @@ TEST(Settings, ShippedConfigsLoad) {
   struct Expected {
     const char* name;
     double fx, k1;
+    double readout_s;  // Kinect (fr1, fr2) rolling shutter; Xtion (fr3, Bonn) treated as global
   };
-  for (const Expected& expected : {Expected{"tum_fr1", 517.306408, 0.262383}, Expected{"tum_fr2", 520.908620, 0.231222},
-                                   Expected{"tum_fr3", 535.4, 0.0}, Expected{"bonn", 542.822841, 0.039903}}) {
+  for (const Expected& expected :
+       {Expected{"tum_fr1", 517.306408, 0.262383, 0.02}, Expected{"tum_fr2", 520.908620, 0.231222, 0.02},
+        Expected{"tum_fr3", 535.4, 0.0, 0.0}, Expected{"bonn", 542.822841, 0.039903, 0.0}}) {
     std::vector<std::string> warnings;
     const std::string path = ::esdslam::testing::SourceDir() + "/config/" + expected.name + ".yaml";
     const Settings settings = LoadSettings(path, &warnings);
     EXPECT_TRUE(warnings.empty()) << path;
     EXPECT_DOUBLE_EQ(settings.camera.fx, expected.fx) << path;
     EXPECT_DOUBLE_EQ(settings.camera.k1, expected.k1) << path;
+    EXPECT_DOUBLE_EQ(settings.readout_time_s, expected.readout_s) << path;
     EXPECT_DOUBLE_EQ(settings.bf, 40);
     EXPECT_DOUBLE_EQ(settings.th_depth, 40);
     EXPECT_DOUBLE_EQ(settings.depth_map_factor, 5000);
@@ -138,6 +141,19 @@ TEST(Settings, SyntaxErrorDuplicateAndFailedCheck) {
   ExpectLoadError(dir.Write("c.yaml", std::string(kMinimal) + "Camera.RGB: 2\n"), 6, "Camera.RGB");
   ExpectLoadError(dir.Write("d.yaml", std::string(kMinimal) + "ORBextractor.scaleFactor: 1.0\n"), 6, "scaleFactor");
   ExpectLoadError(dir.Path("none.yaml"), 0, "not found");
+}
+
+TEST(Settings, RollingShutterReadoutIsBoundedByTheFramePeriod) {
+  TempDir dir;
+  EXPECT_DOUBLE_EQ(LoadSettings(dir.Write("a.yaml", kMinimal)).readout_time_s, 0.0);  // global shutter
+  EXPECT_DOUBLE_EQ(LoadSettings(dir.Write("b.yaml", std::string(kMinimal) + "Camera.readoutTime: 0.02\n")).readout_time_s,
+                   0.02);
+  ExpectLoadError(dir.Write("c.yaml", std::string(kMinimal) + "Camera.readoutTime: -0.01\n"), 6, "Camera.readoutTime");
+  // 0.04 s is more than a 30 Hz frame period.
+  ExpectLoadError(dir.Write("d.yaml", std::string(kMinimal) + "Camera.readoutTime: 0.04\n"), 6, "Camera.readoutTime");
+  EXPECT_DOUBLE_EQ(
+      LoadSettings(dir.Write("e.yaml", std::string(kMinimal) + "Camera.fps: 20\nCamera.readoutTime: 0.04\n")).readout_time_s,
+      0.04);
 }
 
 TEST(Settings, NestedMapsAreDottedKeys) {
