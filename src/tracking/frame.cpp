@@ -149,7 +149,7 @@ void Frame::CompensateRollingShutter(const Vec3& angular_velocity_cam) {
   if (rig.readout_time_s <= 0.0) return;
   if (features_.use_count() != 1)
     throw Error("Frame::CompensateRollingShutter: the features are already shared with a keyframe");
-  if (extracted_undistorted_.empty()) extracted_undistorted_ = features_->undistorted;
+  if (extracted_undistorted_.empty()) extracted_undistorted_ = features_->undistorted, extracted_depth_ = features_->depth;
   const PinholeCamera& camera = rig.camera;
   const double last_row = std::max(1, camera.height() - 1);
   std::vector<int> levels(static_cast<std::size_t>(size()));
@@ -161,10 +161,16 @@ void Frame::CompensateRollingShutter(const Vec3& angular_velocity_cam) {
     const cv::Point2f& seen = extracted_undistorted_[i];
     const Vec3 ray = middle_from_row * Vec3((seen.x - camera.cx()) / camera.fx(), (seen.y - camera.cy()) / camera.fy(), 1.0);
     cv::Point2f& corrected = features_->undistorted[i];
-    corrected = ray.z() > 0 ? cv::Point2f(static_cast<float>(camera.fx() * ray.x() / ray.z() + camera.cx()),
-                                          static_cast<float>(camera.fy() * ray.y() / ray.z() + camera.cy()))
-                            : seen;
-    if (features_->depth[i] > 0) features_->right_u[i] = static_cast<float>(corrected.x - rig.bf / features_->depth[i]);
+    float& depth_m = features_->depth[i];
+    corrected = seen;
+    depth_m = extracted_depth_[i];
+    if (ray.z() > 0) {  // else turned out of view (about 90 deg within the readout): left as seen
+      corrected = cv::Point2f(static_cast<float>(camera.fx() * ray.x() / ray.z() + camera.cx()),
+                              static_cast<float>(camera.fy() * ray.y() / ray.z() + camera.cy()));
+      // The depth reading is z at the row's time (the seen ray has z = 1): z of the turned ray.
+      depth_m = static_cast<float>(depth_m * ray.z());
+    }
+    if (depth_m > 0) features_->right_u[i] = static_cast<float>(corrected.x - rig.bf / depth_m);
   }
   features_->grid = std::make_unique<FeatureGrid>(features_->undistorted, levels, camera.min_u(), camera.max_u(),
                                                   camera.min_v(), camera.max_v());

@@ -69,7 +69,7 @@ class Frame {
   // an angle with cos >= min_view_cos to its mean viewing direction, else nothing.
   std::optional<PointProjection> ProjectInFrustum(MapPoint* point, double min_view_cos) const;
   // Rolling shutter (rig().readout_time_s > 0; else nothing happens): moves each keypoint's
-  // undistorted position (and virtual right u) to where it would be seen at the middle row's time,
+  // undistorted position, depth and virtual right u to where it would be seen at the middle row's time,
   // for a camera turning at `angular_velocity_cam` (rad/s, in the camera frame: a static point's
   // camera coordinates change as X(t + dt) = exp([w]x dt) X(t)). Always starts from the positions
   // as extracted, so a second call replaces the first one's correction. Only while no keyframe
@@ -97,6 +97,7 @@ class Frame {
   // Undistorted keypoint positions as extracted, before any rolling-shutter correction (empty
   // until the first CompensateRollingShutter call).
   std::vector<cv::Point2f> extracted_undistorted_;
+  std::vector<float> extracted_depth_;  // FeatureSet::depth as extracted, same rule
   cv::Mat depth_m_;
 };
 

@@ -56,8 +56,13 @@ TEST(RollingShutter, KeypointsMoveToTheMiddleRowTime) {
     const cv::Point2f predicted = Pixel(camera, ExpSO3(tau_s * angular_velocity_cam) * middle_ray);
     EXPECT_NEAR(predicted.x, seen.x, 1e-3);
     EXPECT_NEAR(predicted.y, seen.y, 1e-3);
-    // The virtual right coordinate follows the corrected u.
+    // The depth reading turns with the ray (the point, not only its direction, is moved to the
+    // middle row's camera), and the virtual right coordinate follows the corrected u and depth.
+    EXPECT_EQ(frame.features().has_depth(i), extracted.features().has_depth(i));
     if (frame.features().has_depth(i)) {
+      const Vec3 point_at_row = extracted.features().BackprojectCam(i);
+      const Vec3 expected = ExpSO3(-tau_s * angular_velocity_cam) * point_at_row;
+      EXPECT_LT((frame.features().BackprojectCam(i) - expected).norm(), 1e-4 * expected.norm());
       EXPECT_NEAR(frame.features().right_u[i], middle.x - 40.0 / frame.features().depth[i], 1e-3);
     }
     largest_shift_px = std::max(largest_shift_px, static_cast<double>(cv::norm(middle - seen)));
@@ -75,6 +80,7 @@ TEST(RollingShutter, GlobalShutterRigChangesNothing) {
   for (int i = 0; i < frame.size(); ++i) {
     EXPECT_EQ(frame.features().undistorted[i], extracted.features().undistorted[i]);
     EXPECT_EQ(frame.features().right_u[i], extracted.features().right_u[i]);
+    EXPECT_EQ(frame.features().depth[i], extracted.features().depth[i]);
   }
 }
 
@@ -88,6 +94,7 @@ TEST(RollingShutter, ASecondCallReplacesTheFirst) {
   for (int i = 0; i < once.size(); ++i) {
     EXPECT_EQ(once.features().undistorted[i], twice.features().undistorted[i]);
     EXPECT_EQ(once.features().right_u[i], twice.features().right_u[i]);
+    EXPECT_EQ(once.features().depth[i], twice.features().depth[i]);
   }
   // The grid follows the corrected positions: a keypoint is found where it now is.
   const cv::Point2f p = twice.features().undistorted[0];
