@@ -66,13 +66,16 @@ std::string SynthSettingsYaml(const SynthOptions& options) {
   yaml += fmt::format("Camera.fx: {:.6f}\nCamera.fy: {:.6f}\nCamera.cx: {:.6f}\nCamera.cy: {:.6f}\n", k.fx, k.fy, k.cx, k.cy);
   yaml += "Camera.k1: 0.0\nCamera.k2: 0.0\nCamera.p1: 0.0\nCamera.p2: 0.0\nCamera.k3: 0.0\n";
   yaml += fmt::format("Camera.width: {}\nCamera.height: {}\nCamera.fps: {:.1f}\n", k.width, k.height, options.fps);
+  // The rolling shutter is part of the camera's calibration (absent: global shutter).
+  if (options.readout_time_s > 0) yaml += fmt::format("Camera.readoutTime: {:.6g}\n", options.readout_time_s);
   yaml += "Camera.bf: 40.0\nCamera.RGB: 1\nThDepth: 40.0\n";
   yaml += fmt::format("DepthMapFactor: {:.1f}\n", kSynthDepthFactor);
   yaml += "ORBextractor.nFeatures: 1000\nORBextractor.scaleFactor: 1.2\nORBextractor.nLevels: 8\n";
   yaml += "ORBextractor.iniThFAST: 20\nORBextractor.minThFAST: 7\n";
-  // Colour and depth are rendered with one global shutter at the same instant (up to the depth
-  // time offset): the depth image is misregistered against the colour pose only by the motion
-  // during that offset (fraction of a frame), not by a real sensor's timing and rolling shutter.
+  // Colour and depth are rendered with the same shutter (global, or rolling with the same row
+  // times) at the same instant (up to the depth time offset): the depth image is misregistered
+  // against the colour only by the motion during that offset (fraction of a frame), not by a
+  // real sensor's separate timing.
   yaml += "# Misregistration of depth vs colour as a fraction of the motion per frame\n";
   yaml += fmt::format("Dynamic.check.motionWindowFraction: {:.3f}\n", std::abs(options.depth_time_offset) * options.fps);
   return yaml;

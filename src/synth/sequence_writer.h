@@ -4,7 +4,8 @@
 //   groundtruth.txt (world_from_cam, TUM format)
 //   masks/<t>.png (uint8: 0 static, k = mover k) + masks.txt
 //   labels/<t>.png (uint8 PASCAL VOC class ids: 15 person on movers, 0 elsewhere) + labels.txt
-//   settings.yaml (ORB-SLAM2 keys for the synthetic camera)
+//   settings.yaml (ORB-SLAM2 keys for the synthetic camera, plus Camera.readoutTime when it has a
+//   rolling shutter)
 // <t> is the frame's timestamp with 6 decimals; masks and labels use the rgb timestamp.
 
 #include <functional>

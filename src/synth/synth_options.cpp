@@ -1,5 +1,6 @@
 #include "synth/synth_options.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/error.h"
@@ -24,9 +25,10 @@ void SynthOptions::Check() const {
     throw Error("synth: first_timestamp must be finite and >= 0");
   intrinsics.Check();
   if (intrinsics.HasDistortion()) throw Error("synth: the synthetic camera has no distortion (k1..k3, p1, p2 must be 0)");
-  if (trajectory != "arc" && trajectory != "loop" && trajectory != "orbit" && trajectory != "corridor")
-    throw Error(fmt::format("synth: trajectory must be 'arc', 'loop', 'orbit' or 'corridor' (got '{}')", trajectory));
-  if ((trajectory == "orbit" || trajectory == "corridor") && num_movers > 0)
+  if (trajectory != "arc" && trajectory != "loop" && trajectory != "orbit" && trajectory != "corridor" &&
+      trajectory != "rpy")
+    throw Error(fmt::format("synth: trajectory must be 'arc', 'loop', 'orbit', 'corridor' or 'rpy' (got '{}')", trajectory));
+  if ((trajectory == "orbit" || trajectory == "corridor" || trajectory == "rpy") && num_movers > 0)
     throw Error(fmt::format("synth: the {} trajectory has no movers (their lanes cross it)", trajectory));
   if (!(loop_turns >= 0.25 && loop_turns <= 3.0))
     throw Error(fmt::format("synth: loop_turns must be in [0.25, 3] (got {})", loop_turns));
@@ -63,6 +65,13 @@ void SynthOptions::Check() const {
     throw Error(fmt::format("synth: min_depth_m must be in [0, 1) m (got {})", min_depth_m));
   if (blocked_frame >= 0 && !(min_depth_m > 0.3))
     throw Error("synth: a blocked sensor needs min_depth_m > 0.3 m (the blocking object sits 0.15-0.3 m from the lens)");
+  // A readout longer than the frame period is impossible (the next frame's first row would start
+  // before this frame's last one); at most 0.1 s, the bound of the settings key Camera.readoutTime
+  // that settings.yaml writes it to.
+  const double max_readout_s = std::min(0.1, 1.0 / fps);
+  if (!(readout_time_s >= 0 && readout_time_s <= max_readout_s))
+    throw Error(fmt::format("synth: readout_time_s must be in [0, min(0.1, 1 / fps) = {:.4f}] s (got {})", max_readout_s,
+                            readout_time_s));
 }
 
 SynthOptions SynthPreset(const std::string& name) {
@@ -121,7 +130,19 @@ SynthOptions SynthPreset(const std::string& name) {
     options.min_depth_m = 0.35;
     return options;
   }
-  throw Error(fmt::format("synth: unknown preset '{}' (expected static, dynamic, loop, orbit, corridor, moved_box or occlusion)", name));
+  if (name == "rolling") {
+    // Known rolling shutter under fast turns (the TUM fr1_rpy motion): 0.025 s readout, a
+    // little longer than the Kinect's (Camera.readoutTime 0.02 in config/tum_fr1.yaml). At
+    // 65 deg/s the image skews by about 15 px from the first row to the last. Mild depth noise
+    // (sigma 1.1 cm at 2.3 m, 3.2 cm at 4 m).
+    options.trajectory = "rpy";
+    options.num_frames = 180;
+    options.readout_time_s = 0.025;
+    options.depth_noise_at_1m = 0.002;
+    return options;
+  }
+  throw Error(fmt::format(
+      "synth: unknown preset '{}' (expected static, dynamic, loop, orbit, corridor, moved_box, occlusion or rolling)", name));
 }
 
 }  // namespace esdslam

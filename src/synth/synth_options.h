@@ -5,9 +5,10 @@
 // smooth path ("arc": a walk along an arc looking into the room; "loop": a small circle looking
 // outwards; "orbit": a walk around the room centre looking at it; "corridor": a walk around a
 // ring corridor on a larger floor (synth/synth_layout.h); loop, orbit and corridor make
-// `loop_turns` turns over the sequence, one turn ending exactly at its start pose); optional
-// human-sized boxes walk back and forth through the view. Everything is deterministic given
-// `seed`.
+// `loop_turns` turns over the sequence, one turn ending exactly at its start pose; "rpy": fast
+// roll, pitch and yaw turns on the spot, like TUM fr1_rpy); optional human-sized boxes walk back
+// and forth through the view. The colour and depth images can have a rolling shutter
+// (`readout_time_s`). Everything is deterministic given `seed`.
 
 #include <cstdint>
 #include <string>
@@ -23,7 +24,12 @@ struct SynthOptions {
   double first_timestamp = 100.0;   // seconds
   // Pinhole camera without distortion (k1..k3 = 0 are required). Default: 640x480, f = 525.
   CameraIntrinsics intrinsics = DefaultIntrinsics();
-  std::string trajectory = "arc";   // "arc", "loop", "orbit" or "corridor" (orbit, corridor: no movers)
+  // "arc", "loop", "orbit", "corridor" or "rpy" (orbit, corridor, rpy: no movers). rpy: the
+  // camera stays within a few cm of a point 1.4 m above the floor and turns about roll, pitch and
+  // yaw with sinusoids of different frequencies, fading in over the first second (then up to
+  // about 120 deg/s, median about 63 deg/s at 30 fps), looking at the north wall and its
+  // furniture 2.4-4 m away (synth/synth_paths.h).
+  std::string trajectory = "arc";
   // Loop and orbit: turns around the circle over the sequence (the path is periodic per turn). More
   // than 1 revisits the start: the place is seen again for (turns - 1) of a turn.
   double loop_turns = 1.0;
@@ -64,6 +70,12 @@ struct SynthOptions {
   int blocked_frames = 0;
   // The depth sensor's near limit: depth nearer than this is invalid (0). 0 = none.
   double min_depth_m = 0.0;
+  // Rolling shutter: seconds from the first to the last image row, in [0, min(0.1, 1 / fps)]
+  // (0 = global shutter). Row r of the colour and the depth image is exposed at FrameTime(index) +
+  // (r / (height - 1) - 0.5) * readout_time_s, seen from the camera pose and with the movers
+  // where they are at that time; the frame's timestamp and ground-truth pose are the middle
+  // row's (as RgbdRig::readout_time_s and the settings key Camera.readoutTime expect).
+  double readout_time_s = 0.0;
 
   // Throws esdslam::Error on invalid values.
   void Check() const;
@@ -77,8 +89,9 @@ struct SynthOptions {
 // depth and image noise: the loop-closing benchmark), "moved_box" (static arc, 240 frames, the crate
 // on the north wall moved 0.9 m west and 0.5 m into the room half way), "occlusion" (arc, 3
 // movers, 300 frames: a pair crosses 0.9 m in front of the camera at 3 s and covers 60-80 % of the
-// image for about 1.5 s; the sensor is blocked for 4 frames at 7 s; near limit 0.35 m). Throws
-// Error on an unknown name.
+// image for about 1.5 s; the sensor is blocked for 4 frames at 7 s; near limit 0.35 m), "rolling"
+// (rpy trajectory, no movers, 180 frames at 30 fps, rolling shutter with a 0.025 s readout, depth
+// noise 0.002 z^2). Throws Error on an unknown name.
 SynthOptions SynthPreset(const std::string& name);
 
 }  // namespace esdslam

@@ -123,9 +123,30 @@ Rigid3 CorridorPose(const SynthOptions& options, double time) {
   return Rigid3(WorldFromCamRotation(heading, pitch, roll), position);
 }
 
+// Fast turns on the spot (TUM fr1_rpy-like hand-held roll, pitch and yaw), looking north at the
+// sideboard, crate and picture on the north wall; a few cm of hand jitter. Rates (deg/s) are the
+// amplitude times 2 pi f: yaw 43 + 49, pitch 50, roll 55; their sum of squares peaks where the
+// phases meet. The turns fade in over the first second from a still start (as a recording
+// starts; a tracker cannot correct its first frame's rolling shutter, having no rate yet). A
+// function of time only, so rolling-shutter rows can sample it at any instant.
+Rigid3 RpyPose(double time) {
+  const double t = time;
+  constexpr double kFadeIn = 1.0;  // seconds
+  const double fade = 0.5 - 0.5 * std::cos(M_PI * std::clamp(t / kFadeIn, 0.0, 1.0));  // 0 -> 1, smooth
+  const Vec3 jitter(0.02 * std::sin(kTwoPi * 0.3 * t), 0.015 * std::sin(kTwoPi * 0.45 * t + 1.0),
+                    0.01 * std::sin(kTwoPi * 0.6 * t + 2.0));
+  const Vec3 position = Vec3(0.0, -0.3, 1.4) + jitter;
+  const double heading =
+      M_PI / 2 + fade * (0.30 * std::sin(kTwoPi * 0.4 * t + 0.3) + 0.15 * std::sin(kTwoPi * 0.9 * t + 0.51));
+  const double pitch = -0.2 + fade * 0.2 * std::sin(kTwoPi * 0.7 * t + 1.0);
+  const double roll = fade * 0.28 * std::sin(kTwoPi * 0.55 * t + 2.0);
+  return Rigid3(WorldFromCamRotation(heading, pitch, roll), position);
+}
+
 }  // namespace
 
 Rigid3 CameraPoseAt(const SynthOptions& options, double time) {
+  if (options.trajectory == "rpy") return RpyPose(time);
   if (options.trajectory == "loop") return LoopPose(options, time);
   if (options.trajectory == "orbit") return OrbitPose(options, time);
   if (options.trajectory == "corridor") return CorridorPose(options, time);

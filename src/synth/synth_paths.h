@@ -21,7 +21,13 @@ namespace esdslam {
 //   centre, looking at the centre and slightly down (about 0.54 m/s and 24 deg/s at 450 frames
 //   per turn). "corridor": options.loop_turns walks along the middle of the ring corridor
 //   (a rounded 7.75 x 4.75 m rectangle, 23.4 m per turn, counterclockwise from the middle of its
-//   south side), looking ahead with the head turning +-17 deg, periodic per turn.
+//   south side), looking ahead with the head turning +-17 deg, periodic per turn. "rpy": turns on
+//   the spot like TUM fr1_rpy: within 3 cm of (0, -0.3, 1.4) m, heading north +-26 deg (two
+//   sinusoids, 0.4 and 0.9 Hz), pitch -11 deg +-11 deg (0.7 Hz), roll +-16 deg (0.55 Hz); at
+//   180 frames and 30 fps the rotation rate between frames peaks near 120 deg/s, median near
+//   63 deg/s; the turns fade in from a still start over the first second; the north wall is
+//   2.8 m away, its sideboard 2.4 m. Not periodic; independent of num_frames (the same motion at
+//   every length).
 Rigid3 CameraPoseAt(const SynthOptions& options, double time);
 
 // A mover walks back and forth along a lane parallel to the x axis: x(t) = A sin(omega t + phase).

@@ -184,7 +184,10 @@ SynthRayHit SyntheticScene::CastRay(const Vec3& origin, const Vec3& dir, double 
 
 SynthFrame SyntheticScene::RenderFrame(int index) const {
   const std::uint32_t noise_seed = options_.seed * 2654435761u + static_cast<std::uint32_t>(index);
-  SynthFrame frame = Render(WorldFromCam(index), FrameTime(index), noise_seed);
+  SynthFrame frame =
+      options_.readout_time_s > 0
+          ? RenderRolling([this](double time) { return CameraPoseAt(options_, time); }, FrameTime(index), noise_seed)
+          : Render(WorldFromCam(index), FrameTime(index), noise_seed);
   frame.index = index;
   frame.timestamp = Timestamp(index);
   frame.depth_timestamp = DepthTimestamp(index);
@@ -258,22 +261,28 @@ void AddImageNoise(double sigma, std::uint32_t noise_seed, cv::Mat& bgr) {
   }
 }
 
-}  // namespace
-
-SynthFrame SyntheticScene::Render(const Rigid3& world_from_cam, double time, std::uint32_t noise_seed) const {
-  std::vector<BoxView> views(boxes_.size());
-  for (std::size_t i = 0; i < boxes_.size(); ++i) {
-    const Rigid3 world_from_box = WorldFromBox(static_cast<int>(i), time);
+// Every box as seen from world_from_cam at `time` (seconds since frame 0).
+std::vector<BoxView> MakeViews(const SyntheticScene& scene, const Rigid3& world_from_cam, double time) {
+  const std::vector<TexturedBox>& boxes = scene.boxes();
+  std::vector<BoxView> views(boxes.size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const Rigid3 world_from_box = scene.WorldFromBox(static_cast<int>(i), time);
     const Rigid3 box_from_cam = world_from_box.inverse() * world_from_cam;
-    views[i].box = &boxes_[i];
+    views[i].box = &boxes[i];
     views[i].box_from_cam = box_from_cam.rotation_matrix();
     views[i].cam_in_box = box_from_cam.translation();
-    ComputeImageBounds(views[i], box_from_cam.inverse(), camera_);
+    ComputeImageBounds(views[i], box_from_cam.inverse(), scene.camera());
     for (int face = 0; face < 6; ++face) {
-      const Vec3 normal_world = world_from_box.rotation() * FaceNormal(boxes_[i], face);
+      const Vec3 normal_world = world_from_box.rotation() * FaceNormal(boxes[i], face);
       views[i].shade[face] = static_cast<float>(0.7 + 0.3 * normal_world.dot(kLight));
     }
   }
+  return views;
+}
+
+}  // namespace
+
+SynthFrame SyntheticScene::AllocateFrame(const Rigid3& world_from_cam, double time) const {
   const int width = camera_.width(), height = camera_.height();
   SynthFrame frame;
   frame.world_from_cam = world_from_cam;
@@ -283,9 +292,38 @@ SynthFrame SyntheticScene::Render(const Rigid3& world_from_cam, double time, std
   frame.depth_m.create(height, width, CV_32F);
   frame.mover_mask.create(height, width, CV_8U);
   frame.surface_id.create(height, width, CV_32S);
+  return frame;
+}
+
+SynthFrame SyntheticScene::Render(const Rigid3& world_from_cam, double time, std::uint32_t noise_seed) const {
+  const std::vector<BoxView> views = MakeViews(*this, world_from_cam, time);
+  SynthFrame frame = AllocateFrame(world_from_cam, time);
   // Pixels are independent, so the parallel rendering is deterministic.
-  cv::parallel_for_(cv::Range(0, height),
+  cv::parallel_for_(cv::Range(0, camera_.height()),
                     [&](const cv::Range& rows) { RenderRows(views, camera_, options_.supersampling, rows, frame); });
+  FinishDepth(options_, noise_seed, frame.depth_m);
+  AddImageNoise(options_.image_noise_sigma, noise_seed, frame.bgr);
+  return frame;
+}
+
+double SyntheticScene::RowTime(double time, int row) const {
+  const double last_row = std::max(1, camera_.height() - 1);
+  return time + (row / last_row - 0.5) * options_.readout_time_s;
+}
+
+SynthFrame SyntheticScene::RenderRolling(const std::function<Rigid3(double)>& world_from_cam_at, double time,
+                                         std::uint32_t noise_seed) const {
+  SynthFrame frame = AllocateFrame(world_from_cam_at(time), time);
+  // One band per row: the views (a few dozen boxes) cost little next to the row's
+  // width * (1 + supersampling^2) rays. Each row depends on its own time only, so the parallel
+  // rendering is deterministic.
+  cv::parallel_for_(cv::Range(0, camera_.height()), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      const double row_time = RowTime(time, v);
+      const std::vector<BoxView> views = MakeViews(*this, world_from_cam_at(row_time), row_time);
+      RenderRows(views, camera_, options_.supersampling, cv::Range(v, v + 1), frame);
+    }
+  });
   FinishDepth(options_, noise_seed, frame.depth_m);
   AddImageNoise(options_.image_noise_sigma, noise_seed, frame.bgr);
   return frame;

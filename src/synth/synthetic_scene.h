@@ -8,9 +8,12 @@
 // furniture and `num_movers` textured person-sized boxes walking through it. Images are ray
 // cast per pixel: colour averages supersampling^2 rays per pixel (anti-aliasing), depth, mask
 // and surface id come from the ray through the pixel centre, so depth is exact (no mixed
-// pixels at edges) apart from the optional noise.
+// pixels at edges) apart from the optional noise. With a rolling shutter
+// (SynthOptions::readout_time_s) each row is ray cast from the camera and mover poses at its own
+// exposure time.
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -66,10 +69,20 @@ class SyntheticScene {
   // Index into boxes() of mover k (1-based).
   int MoverBox(int mover_id) const { return first_mover_box_ + mover_id - 1; }
 
-  // Frame `index` with its ground-truth pose, time and noise seed.
+  // Frame `index` with its ground-truth pose (the middle row's), time and noise seed; with a
+  // rolling shutter (options().readout_time_s > 0) rendered by RenderRolling along the trajectory.
   SynthFrame RenderFrame(int index) const;
-  // Renders any pose at any time. Depth noise (if enabled) is drawn from `noise_seed`.
+  // Renders any pose at any time with a global shutter (every row at `time`, seconds since frame
+  // 0). Depth noise (if enabled) is drawn from `noise_seed`.
   SynthFrame Render(const Rigid3& world_from_cam, double time, std::uint32_t noise_seed) const;
+  // Rolling shutter: renders colour and depth row by row, row v as Render would at RowTime(time,
+  // v) from world_from_cam_at(RowTime(time, v)) with the movers at that time. The frame's pose is
+  // world_from_cam_at(time) (the middle row's). Readout 0: every row at `time`.
+  SynthFrame RenderRolling(const std::function<Rigid3(double)>& world_from_cam_at, double time,
+                           std::uint32_t noise_seed) const;
+  // Exposure time of image row `row` of a frame at `time` (seconds since frame 0):
+  // time + (row / (height - 1) - 0.5) * options().readout_time_s.
+  double RowTime(double time, int row) const;
   // Nearest surface along the world ray origin + t * dir (t > 0) at `time`.
   SynthRayHit CastRay(const Vec3& origin, const Vec3& dir, double time) const;
 
@@ -78,6 +91,8 @@ class SyntheticScene {
   void BuildMovers(std::mt19937& rng);
   // Adds a person-like box (shirt and trousers textures) with the next mover id.
   void AddPersonBox(const Vec3& half_size, std::mt19937& rng);
+  // Images of the camera's size (contents undefined), pose and timestamps set.
+  SynthFrame AllocateFrame(const Rigid3& world_from_cam, double time) const;
 
   SynthOptions options_;
   PinholeCamera camera_;

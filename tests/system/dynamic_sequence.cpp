@@ -42,4 +42,15 @@ const std::string& OcclusionTestSequence() {
   return dir;
 }
 
+const std::string& RollingTestSequence() {
+  static const std::string dir = [] {
+    const SyntheticScene scene(SynthPreset("rolling"));
+    const std::string out = TestTempPath("rolling_sequence");
+    std::filesystem::remove_all(out);
+    WriteSynthSequence(scene, out);
+    return out;
+  }();
+  return dir;
+}
+
 }  // namespace esdslam::testing
