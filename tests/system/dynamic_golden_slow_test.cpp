@@ -72,7 +72,7 @@ TEST(DynamicGoldenSlowTest, TumFr1RpyFullModeCostsAtMostTenPercent) {
   const ModeResult none = RunMode(dir, "tum_fr1.yaml", DynamicMode::kNone);
   EXPECT_EQ(full.tracked, full.frames);
   EXPECT_LE(full.ate_rmse, 1.1 * none.ate_rmse);
-  EXPECT_LE(none.ate_rmse, 0.020);  // issue 13's limit; 0.0114 m measured (single thread)
+  EXPECT_LE(none.ate_rmse, 0.020);  // issue 13's limit; 0.0118 m measured (single thread)
   EXPECT_LE(full.geometry_keypoints, full.keypoints / 100);  // a static scene: nothing moves
 }
 

@@ -56,7 +56,7 @@ TEST(GoldenSlowTest, TumFr1RpyTracksEveryFrameWithinOrbSlam2Accuracy) {
     std::printf("fr1_rpy run %d: ATE RMSE %.4f m\n", run, result.ate_rmse);
   }
   // ORB-SLAM2 (built from source, median of 3): 0.0274 m; ours without the rolling-shutter
-  // correction (Camera.readoutTime: 0) 0.021-0.039 m, with it 0.0110-0.0117 m (docs/RESULTS.md).
+  // correction (Camera.readoutTime: 0) 0.021-0.039 m, with it 0.010-0.012 m (docs/RESULTS.md).
   EXPECT_LE(Median(ates), 0.016);
 }
 

@@ -1,12 +1,13 @@
 // The rolling-shutter correction on a synthetic sequence with known ground truth and a known
 // readout (the "rolling" preset: TUM fr1_rpy-like turns up to about 120 deg/s, 0.025 s readout).
 // Single-thread runs in mode none (as `esdslam run --mode none --single-thread`), which repeat
-// exactly. Measured (2026-12, 180 frames): readout 0 ATE RMSE 0.105 m (median 0.090 m); the true
-// 0.025 s 0.059 m (median 0.011 m, but frames 126-139 jump by up to 0.68 m and recover);
+// exactly. Measured (2026-12-07, 180 frames): readout 0 ATE RMSE 0.105 m (median 0.090 m); the
+// true 0.025 s 0.0285 m (median 0.0068 m; frames 131-136 lose inliers and jump, then recover:
+// the rate the correction uses comes from the last poses, and at the full readout it feeds back);
 // half of it, 0.0125 s, 0.048 m (median 0.037 m).
-//   readout 0.025 s (the settings', the truth): every frame tracked, ATE RMSE at most 0.7x that of
-//                   the run without correction and <= 0.075 m; the median ATE at most 0.3x and
-//                   <= 0.02 m;
+//   readout 0.025 s (the settings', the truth): every frame tracked, ATE RMSE at most 0.5x that of
+//                   the run without correction and <= 0.05 m; the median ATE at most 0.3x and
+//                   <= 0.015 m;
 //   readout 0:      the uncorrected baseline (every frame tracked);
 //   readout 0.0125: a wrong (half) readout, printed only (every frame tracked).
 #include <gtest/gtest.h>
@@ -70,10 +71,10 @@ TEST(RollingShutterSlowTest, CorrectingTheKnownReadoutBeatsTheGlobalShutterModel
   EXPECT_EQ(corrected.tracked, corrected.frames);
   EXPECT_EQ(uncorrected.tracked, uncorrected.frames);
   EXPECT_EQ(half.tracked, half.frames);
-  EXPECT_LE(corrected.ate_rmse, 0.7 * uncorrected.ate_rmse);
-  EXPECT_LE(corrected.ate_rmse, 0.075);
+  EXPECT_LE(corrected.ate_rmse, 0.5 * uncorrected.ate_rmse);
+  EXPECT_LE(corrected.ate_rmse, 0.05);
   EXPECT_LE(corrected.ate_median, 0.3 * uncorrected.ate_median);
-  EXPECT_LE(corrected.ate_median, 0.02);
+  EXPECT_LE(corrected.ate_median, 0.015);
 }
 
 }  // namespace
