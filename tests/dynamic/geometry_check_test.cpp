@@ -4,6 +4,7 @@
 #include <set>
 
 #include <gtest/gtest.h>
+
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -11,20 +12,13 @@
 #include "dynamic/geometry_check.h"
 #include "dynamic/reference_keyframes.h"
 #include "synth/synthetic_scene.h"
+#include "support/small_synth.h"
 
 namespace esdslam {
 namespace {
 
-// Half resolution (320x240) keeps the tests fast.
 SynthOptions SmallOptions(const std::string& preset, int frames) {
-  SynthOptions options = SynthPreset(preset);
-  options.num_frames = frames;
-  options.intrinsics.width = 320;
-  options.intrinsics.height = 240;
-  options.intrinsics.fx = options.intrinsics.fy = 262.5;
-  options.intrinsics.cx = 159.5;
-  options.intrinsics.cy = 119.5;
-  return options;
+  return ::esdslam::testing::SmallSynthOptions(preset, frames);
 }
 
 GeometryCheckOptions SmallGeometryOptions() {

@@ -16,20 +16,12 @@
 #include "synth/sequence_writer.h"
 #include "synth/synthetic_scene.h"
 #include "support/temp_path.h"
+#include "support/small_synth.h"
 
 namespace esdslam {
 namespace {
 
-// Quarter resolution (320x240): the same geometry, four times faster.
-SynthOptions SmallOptions(const std::string& preset) {
-  SynthOptions options = SynthPreset(preset);
-  options.intrinsics.width = 320;
-  options.intrinsics.height = 240;
-  options.intrinsics.fx = options.intrinsics.fy = 262.5;
-  options.intrinsics.cx = 159.5;
-  options.intrinsics.cy = 119.5;
-  return options;
-}
+SynthOptions SmallOptions(const std::string& preset) { return ::esdslam::testing::SmallSynthOptions(preset); }
 
 // Largest absolute difference of any image of the two frames (0 = bit-identical images).
 double MaxImageDifference(const SynthFrame& a, const SynthFrame& b) {

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include <gtest/gtest.h>
+
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -12,20 +13,14 @@
 #include "synth/sequence_writer.h"
 #include "synth/synth_layout.h"
 #include "synth/synthetic_scene.h"
+#include "support/small_synth.h"
 
 namespace esdslam {
 namespace {
 
 // Quarter resolution (320x240) keeps the tests fast; the geometry is the same.
 SynthOptions SmallOptions(const std::string& preset, int frames) {
-  SynthOptions options = SynthPreset(preset);
-  options.num_frames = frames;
-  options.intrinsics.width = 320;
-  options.intrinsics.height = 240;
-  options.intrinsics.fx = options.intrinsics.fy = 262.5;
-  options.intrinsics.cx = 159.5;
-  options.intrinsics.cy = 119.5;
-  return options;
+  return ::esdslam::testing::SmallSynthOptions(preset, frames);
 }
 
 cv::Mat Quantised(const cv::Mat& depth_m) { return Png16ToDepth(DepthToPng16(depth_m)); }
