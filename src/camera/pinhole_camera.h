@@ -3,6 +3,7 @@
 // Pixel coordinates: (u, v) with u to the right, v down, origin at the centre of the top-left
 // pixel. Camera frame: x right, y down, z forward, metres.
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -64,5 +65,13 @@ class PinholeCamera {
   // Bounds of the image corners after undistortion (equal to the image size without distortion).
   double min_u_ = 0, max_u_ = 0, min_v_ = 0, max_v_ = 0;
 };
+
+// Rolling shutter: seconds from the middle row's exposure to that of image row `row` (px, rows
+// read top to bottom, readout_s from the first row to the last of an image `height` rows high).
+// The one convention of the tracker's correction (RgbdRig::readout_time_s) and the synthetic
+// renderer (SynthOptions::readout_time_s).
+inline double RowTimeOffset(double row, int height, double readout_s) {
+  return (row / std::max(1, height - 1) - 0.5) * readout_s;
+}
 
 }  // namespace esdslam

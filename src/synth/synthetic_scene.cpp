@@ -307,8 +307,7 @@ SynthFrame SyntheticScene::Render(const Rigid3& world_from_cam, double time, std
 }
 
 double SyntheticScene::RowTime(double time, int row) const {
-  const double last_row = std::max(1, camera_.height() - 1);
-  return time + (row / last_row - 0.5) * options_.readout_time_s;
+  return time + RowTimeOffset(row, camera_.height(), options_.readout_time_s);
 }
 
 SynthFrame SyntheticScene::RenderRolling(const std::function<Rigid3(double)>& world_from_cam_at, double time,

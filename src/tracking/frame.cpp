@@ -42,6 +42,15 @@ cv::Mat ToGray(const cv::Mat& image, bool is_rgb) {
   return gray;
 }
 
+// The spatial grid over the undistorted keypoints, within the camera's undistorted image bounds.
+std::unique_ptr<FeatureGrid> MakeGrid(const FeatureSet& features) {
+  std::vector<int> levels(static_cast<std::size_t>(features.size()));
+  for (int i = 0; i < features.size(); ++i) levels[i] = features.level(i);
+  const PinholeCamera& camera = features.rig->camera;
+  return std::make_unique<FeatureGrid>(features.undistorted, levels, camera.min_u(), camera.max_u(), camera.min_v(),
+                                       camera.max_v());
+}
+
 // Depth (m) at the rounded raw keypoint position; 0 when invalid or outside.
 float DepthAt(const cv::Mat& depth_m, const cv::KeyPoint& keypoint) {
   const int u = cvRound(keypoint.pt.x), v = cvRound(keypoint.pt.y);
@@ -82,8 +91,7 @@ Frame::Frame(long id, double timestamp, const cv::Mat& image, const cv::Mat& dep
   if (options.pyramid_centre_correction) CorrectPyramidOffsets(extractor.scale_factors(), &features->keypoints);
   const int n = features->size();
   std::vector<cv::Point2f> raw(n);
-  std::vector<int> levels(n);
-  for (int i = 0; i < n; ++i) raw[i] = features->keypoints[i].pt, levels[i] = features->keypoints[i].octave;
+  for (int i = 0; i < n; ++i) raw[i] = features->keypoints[i].pt;
   const PinholeCamera& camera = features->rig->camera;
   features->undistorted = camera.Undistort(raw);
   features->depth.assign(n, 0.f);
@@ -102,8 +110,7 @@ Frame::Frame(long id, double timestamp, const cv::Mat& image, const cv::Mat& dep
       features->is_dynamic[i] = dynamic_mask.at<unsigned char>(v, u) != 0 ? kDynamicByMask : 0;
     }
   }
-  features->grid = std::make_unique<FeatureGrid>(features->undistorted, levels, camera.min_u(), camera.max_u(),
-                                                 camera.min_v(), camera.max_v());
+  features->grid = MakeGrid(*features);
   features_ = std::move(features);
   map_points.assign(n, nullptr);
   outlier.assign(n, false);
@@ -151,12 +158,9 @@ void Frame::CompensateRollingShutter(const Vec3& angular_velocity_cam) {
     throw Error("Frame::CompensateRollingShutter: the features are already shared with a keyframe");
   if (extracted_undistorted_.empty()) extracted_undistorted_ = features_->undistorted, extracted_depth_ = features_->depth;
   const PinholeCamera& camera = rig.camera;
-  const double last_row = std::max(1, camera.height() - 1);
-  std::vector<int> levels(static_cast<std::size_t>(size()));
   for (int i = 0; i < size(); ++i) {
-    levels[i] = features_->level(i);
     // Seen at row time tau, the point's direction is exp([w]x tau) times its middle-row direction.
-    const double tau_s = (features_->keypoints[i].pt.y / last_row - 0.5) * rig.readout_time_s;
+    const double tau_s = RowTimeOffset(features_->keypoints[i].pt.y, camera.height(), rig.readout_time_s);
     const Mat3 middle_from_row = ExpSO3(-tau_s * angular_velocity_cam);
     const cv::Point2f& seen = extracted_undistorted_[i];
     const Vec3 ray = middle_from_row * Vec3((seen.x - camera.cx()) / camera.fx(), (seen.y - camera.cy()) / camera.fy(), 1.0);
@@ -172,8 +176,7 @@ void Frame::CompensateRollingShutter(const Vec3& angular_velocity_cam) {
     }
     if (depth_m > 0) features_->right_u[i] = static_cast<float>(corrected.x - rig.bf / depth_m);
   }
-  features_->grid = std::make_unique<FeatureGrid>(features_->undistorted, levels, camera.min_u(), camera.max_u(),
-                                                  camera.min_v(), camera.max_v());
+  features_->grid = MakeGrid(*features_);
 }
 
 int Frame::NumWithDepth() const {
