@@ -9,6 +9,7 @@
 
 #include "common/error.h"
 #include "optim/reprojection_cost.h"
+#include "optim/schur_lm.h"
 
 namespace esdslam {
 
@@ -17,12 +18,11 @@ void BundleAdjustmentOptions::Check() const {
     throw Error("BundleAdjustmentOptions: iterations_first must be > 0 and iterations_second >= 0");
   if (!(chi2_mono > 0) || !(chi2_stereo > 0)) throw Error("BundleAdjustmentOptions: chi2 thresholds must be > 0");
   if (num_threads <= 0) throw Error("BundleAdjustmentOptions: num_threads must be positive");
+  if (max_dense_keyframes < 0 || max_dense_keyframes > 500)
+    throw Error("BundleAdjustmentOptions: max_dense_keyframes must be in [0, 500]");
 }
 
 namespace {
-
-// Above this many free keyframes the reduced camera system is solved sparsely.
-constexpr int kMaxDenseSchurKeyframes = 60;
 
 class StopCallback final : public ceres::IterationCallback {
  public:
@@ -39,12 +39,6 @@ class StopCallback final : public ceres::IterationCallback {
   bool stopped_ = false;
 };
 
-// Parameter storage for Ceres (the problem's Rigid3 / Vec3 are converted once, written back once).
-struct BaState {
-  std::vector<std::array<double, kPoseBlockSize>> poses;
-  std::vector<Vec3> points;
-};
-
 void Validate(double bf, const BaProblem& problem) {
   const int num_keyframes = static_cast<int>(problem.keyframes.size());
   const int num_points = static_cast<int>(problem.points.size());
@@ -56,10 +50,6 @@ void Validate(double bf, const BaProblem& problem) {
     if (!(o.information > 0)) throw Error(fmt::format("BundleAdjust: observation {} has information <= 0", i));
     if (o.right_u >= 0 && !(bf > 0)) throw Error("BundleAdjust: observations with depth need bf > 0");
   }
-}
-
-ReprojectionMeasurement MeasurementOf(const BaObservation& o) {
-  return {o.pixel, o.right_u, std::sqrt(o.information)};
 }
 
 BaState StateOf(const BaProblem& problem) {
@@ -78,7 +68,7 @@ int FlagOutliers(const StereoIntrinsics& k, const BundleAdjustmentOptions& optio
                  bool check_chi2, BaProblem* problem) {
   int outliers = 0;
   for (BaObservation& o : problem->observations) {
-    const ReprojectionMeasurement m = MeasurementOf(o);
+    const ReprojectionMeasurement m = BaMeasurement(o);
     bool in_front = false;
     const double chi2 = ReprojectionChi2(k, m, PoseFromBlock(state.poses[o.keyframe].data()), state.points[o.point],
                                          &in_front);
@@ -89,8 +79,9 @@ int FlagOutliers(const StereoIntrinsics& k, const BundleAdjustmentOptions& optio
 }
 
 struct PhaseInput {
+  const StereoIntrinsics* k;
+  const std::atomic<bool>* stop;
   const BaProblem* problem;
-  const std::vector<std::unique_ptr<ceres::CostFunction>>* costs;
   const BundleAdjustmentOptions* options;
   ceres::Manifold* manifold;
   StopCallback* callback;
@@ -100,6 +91,7 @@ struct PhaseInput {
 // they touch; returns the Schur elimination ordering (points first) or null.
 std::shared_ptr<ceres::ParameterBlockOrdering> BuildProblem(const PhaseInput& in, bool robust,
                                                             const std::vector<ceres::LossFunction*>& huber,
+                                                            const std::vector<std::unique_ptr<ceres::CostFunction>>& costs,
                                                             BaState* state, ceres::Problem* ceres_problem) {
   const BaProblem& problem = *in.problem;
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
@@ -122,44 +114,78 @@ std::shared_ptr<ceres::ParameterBlockOrdering> BuildProblem(const PhaseInput& in
       else ++free_points;
     }
     ceres::LossFunction* loss = robust ? huber[o.right_u >= 0 ? 1 : 0] : nullptr;
-    ceres_problem->AddResidualBlock((*in.costs)[i].get(), loss, pose, point);
+    ceres_problem->AddResidualBlock(costs[i].get(), loss, pose, point);
   }
   if (free_points == 0 || free_poses == 0) return nullptr;
   return ordering;
 }
 
-// One Levenberg-Marquardt phase over the inliers.
-ceres::Solver::Summary SolvePhase(const PhaseInput& in, bool robust, int iterations, BaState* state) {
+struct PhaseResult {
+  double initial_cost = 0;
+  double final_cost = 0;
+  bool usable = true;    // the estimate is a valid iterate
+  bool stopped = false;  // ended by the stop flag
+};
+
+// One Levenberg-Marquardt phase over the inliers with Ceres (large windows).
+PhaseResult SolvePhaseWithCeres(const PhaseInput& in, bool robust, int iterations, BaState* state) {
   ceres::HuberLoss huber_mono(std::sqrt(in.options->chi2_mono)), huber_stereo(std::sqrt(in.options->chi2_stereo));
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem ceres_problem(problem_options);
-  auto ordering = BuildProblem(in, robust, {&huber_mono, &huber_stereo}, state, &ceres_problem);
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs;
+  costs.reserve(in.problem->observations.size());
+  for (const BaObservation& o : in.problem->observations) costs.emplace_back(NewPosePointCost(*in.k, BaMeasurement(o)));
+  auto ordering = BuildProblem(in, robust, {&huber_mono, &huber_stereo}, costs, state, &ceres_problem);
 
   ceres::Solver::Options solver_options;
   solver_options.max_num_iterations = iterations;
   solver_options.num_threads = in.options->num_threads;
   solver_options.logging_type = ceres::SILENT;
   solver_options.callbacks.push_back(in.callback);
-  if (ordering != nullptr) {
-    const bool dense = ordering->GroupSize(1) <= kMaxDenseSchurKeyframes ||
-                       !ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE);
-    solver_options.linear_solver_type = dense ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
+  if (ordering != nullptr && ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
+    solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+    solver_options.linear_solver_ordering = ordering;
+  } else if (ordering != nullptr) {
+    solver_options.linear_solver_type = ceres::DENSE_SCHUR;
     solver_options.linear_solver_ordering = ordering;
   } else {
     solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     if (!ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE))
       solver_options.linear_solver_type = ceres::DENSE_QR;
   }
+  PhaseResult result;
+  if (ceres_problem.NumResidualBlocks() == 0) return result;  // nothing to optimise
   ceres::Solver::Summary summary;
-  if (ceres_problem.NumResidualBlocks() > 0) {
-    ceres::Solve(solver_options, &ceres_problem, &summary);
-  } else {
-    summary.initial_cost = summary.final_cost = 0;  // nothing to optimise
-  }
-  return summary;
+  ceres::Solve(solver_options, &ceres_problem, &summary);
+  result.initial_cost = summary.initial_cost;
+  result.final_cost = summary.final_cost;
+  result.usable = summary.IsSolutionUsable();
+  result.stopped = in.callback->stopped();
+  return result;
+}
+
+int FreeKeyframes(const BaProblem& problem) {
+  return static_cast<int>(std::count_if(problem.keyframes.begin(), problem.keyframes.end(),
+                                        [](const BaKeyframe& keyframe) { return !keyframe.fixed; }));
+}
+
+// One Levenberg-Marquardt phase over the inliers.
+PhaseResult SolvePhase(const PhaseInput& in, bool robust, int iterations, BaState* state) {
+  if (FreeKeyframes(*in.problem) > in.options->max_dense_keyframes) return SolvePhaseWithCeres(in, robust, iterations, state);
+  SchurLmOptions lm;
+  lm.max_iterations = iterations;
+  lm.robust = robust;
+  lm.huber_delta_mono = std::sqrt(in.options->chi2_mono);
+  lm.huber_delta_stereo = std::sqrt(in.options->chi2_stereo);
+  const SchurLmSummary summary = SolveSchurLm(*in.k, *in.problem, lm, in.stop, state);
+  PhaseResult result;
+  result.initial_cost = summary.initial_cost;
+  result.final_cost = summary.final_cost;
+  result.stopped = summary.stopped;
+  return result;
 }
 
 void WriteBack(const BaState& state, BaProblem* problem) {
@@ -183,25 +209,23 @@ BaSummary BundleAdjust(const PinholeCamera& camera, double bf, const BundleAdjus
     return result;
   }
   const StereoIntrinsics k(camera, bf);
-  std::vector<std::unique_ptr<ceres::CostFunction>> costs;
-  costs.reserve(problem->observations.size());
-  for (const BaObservation& o : problem->observations) costs.emplace_back(NewPosePointCost(k, MeasurementOf(o)));
   BaState state = StateOf(*problem);
   PoseManifold manifold;
   StopCallback callback(stop);
-  const PhaseInput in{problem, &costs, &options, &manifold, &callback};
+  const PhaseInput in{&k, stop, problem, &options, &manifold, &callback};
 
   // Residuals cannot be evaluated behind the camera: such observations never enter.
   FlagOutliers(k, options, state, /*check_chi2=*/false, problem);
-  const ceres::Solver::Summary first = SolvePhase(in, /*robust=*/true, options.iterations_first, &state);
+  const PhaseResult first = SolvePhase(in, /*robust=*/true, options.iterations_first, &state);
   result.initial_cost = first.initial_cost;
   result.final_cost = first.final_cost;
-  if (!callback.stopped() && options.iterations_second > 0) {
+  result.aborted = first.stopped;
+  if (!result.aborted && options.iterations_second > 0) {
     FlagOutliers(k, options, state, /*check_chi2=*/true, problem);
-    const ceres::Solver::Summary second = SolvePhase(in, /*robust=*/false, options.iterations_second, &state);
-    if (second.IsSolutionUsable()) result.final_cost = second.final_cost;
+    const PhaseResult second = SolvePhase(in, /*robust=*/false, options.iterations_second, &state);
+    if (second.usable) result.final_cost = second.final_cost;
+    result.aborted = second.stopped;
   }
-  result.aborted = callback.stopped();
   result.outliers = FlagOutliers(k, options, state, /*check_chi2=*/true, problem);
   WriteBack(state, problem);
   return result;

@@ -1,6 +1,6 @@
 #pragma once
 // Local bundle adjustment over a covisible window (ORB-SLAM2's Optimizer::LocalBundleAdjustment)
-// on plain map-agnostic data, with Ceres.
+// on plain map-agnostic data: our fixed-block Schur solver for local windows, Ceres for large ones.
 
 #include <atomic>
 #include <vector>
@@ -37,7 +37,10 @@ struct BundleAdjustmentOptions {
   int iterations_second = 10;  // without robust loss, over the inliers
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
-  int num_threads = 1;
+  int num_threads = 1;  // Ceres' threads (large windows only)
+  // Windows with at most this many free keyframes are solved by optim/schur_lm.h (dense reduced
+  // camera system, fixed-size blocks); larger ones by Ceres' sparse Schur solver.
+  int max_dense_keyframes = 60;
   void Check() const;
 };
 
