@@ -1,5 +1,6 @@
 #pragma once
-// Motion-only bundle adjustment (ORB-SLAM2's Optimizer::PoseOptimization) with Ceres.
+// Motion-only bundle adjustment (ORB-SLAM2's Optimizer::PoseOptimization): Levenberg-Marquardt
+// on the 6-D pose tangent (optim/levenberg_marquardt.h), 6x6 normal equations.
 
 #include <vector>
 

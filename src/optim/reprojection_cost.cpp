@@ -124,19 +124,6 @@ void FillPoseJacobian(const Eigen::Matrix<double, kResiduals, 3, Eigen::RowMajor
 }  // namespace
 
 template <int kResiduals>
-bool PoseOnlyCost<kResiduals>::Evaluate(double const* const* parameters, double* residuals,
-                                        double** jacobians) const {
-  Mat3 rotation;
-  const Vec3 point_cam = TransformByBlock(parameters[0], point_world_, &rotation);
-  Eigen::Matrix<double, kResiduals, 3, Eigen::RowMajor> d_point;
-  const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
-  if (!ReprojectionResidual<kResiduals>(k_, m_, point_cam, residuals, want_jacobian ? d_point.data() : nullptr))
-    return false;
-  if (want_jacobian) FillPoseJacobian<kResiduals>(d_point, point_cam, jacobians[0]);
-  return true;
-}
-
-template <int kResiduals>
 bool PosePointCost<kResiduals>::Evaluate(double const* const* parameters, double* residuals,
                                          double** jacobians) const {
   Mat3 rotation;
@@ -155,16 +142,8 @@ bool PosePointCost<kResiduals>::Evaluate(double const* const* parameters, double
   return true;
 }
 
-template class PoseOnlyCost<2>;
-template class PoseOnlyCost<3>;
 template class PosePointCost<2>;
 template class PosePointCost<3>;
-
-ceres::CostFunction* NewPoseOnlyCost(const StereoIntrinsics& k, const ReprojectionMeasurement& m,
-                                     const Vec3& point_world) {
-  if (m.stereo()) return new PoseOnlyCost<3>(k, m, point_world);
-  return new PoseOnlyCost<2>(k, m, point_world);
-}
 
 ceres::CostFunction* NewPosePointCost(const StereoIntrinsics& k, const ReprojectionMeasurement& m) {
   if (m.stereo()) return new PosePointCost<3>(k, m);

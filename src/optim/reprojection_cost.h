@@ -1,6 +1,7 @@
 #pragma once
-// Shared pieces of the Ceres problems in optim/: the pose parameter block with its manifold and
-// the reprojection residuals of ORB-SLAM2's RGB-D edges, with analytic Jacobians.
+// Shared pieces of the optimisers in optim/ (our Levenberg-Marquardt solvers and the Ceres
+// problems): the pose parameter block with its manifold and the reprojection residuals of
+// ORB-SLAM2's RGB-D edges, with analytic Jacobians.
 //
 // Pose block (7 doubles): cam_from_world as quaternion (x, y, z, w) then translation (m).
 // Tangent (6): delta = (rho, phi) applied on the left: R' = Exp(phi) R, t' = Exp(phi) t + rho,
@@ -19,6 +20,8 @@
 #include "common/geometry.h"
 
 namespace esdslam {
+
+using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 constexpr int kPoseBlockSize = 7;
 constexpr int kPoseTangentSize = 6;
@@ -60,24 +63,32 @@ template <int kResiduals>
 bool ReprojectionResidual(const StereoIntrinsics& k, const ReprojectionMeasurement& m, const Vec3& point_cam,
                           double* residual, double* d_residual_d_point);
 
+// Weighted residual of an observation at a pose block (cam_from_world) and a world point; if
+// jacobian_pose is not null, also the Jacobians w.r.t. the pose tangent (left perturbation, as
+// above) and, if jacobian_point is not null, the world point. False when the point is not in
+// front of the camera.
+template <int kResiduals>
+bool EvaluateReprojection(const StereoIntrinsics& k, const ReprojectionMeasurement& m, const double* pose_block,
+                          const Vec3& point_world, Eigen::Matrix<double, kResiduals, 1>* residual,
+                          Eigen::Matrix<double, kResiduals, 6>* jacobian_pose,
+                          Eigen::Matrix<double, kResiduals, 3>* jacobian_point) {
+  const Mat3 rotation = Eigen::Map<const Quat>(pose_block).toRotationMatrix();
+  const Vec3 point_cam = rotation * point_world + Eigen::Map<const Vec3>(pose_block + 4);
+  Eigen::Matrix<double, kResiduals, 3, Eigen::RowMajor> d_point;
+  if (!ReprojectionResidual<kResiduals>(k, m, point_cam, residual->data(),
+                                        jacobian_pose != nullptr ? d_point.data() : nullptr))
+    return false;
+  if (jacobian_pose == nullptr) return true;
+  jacobian_pose->template leftCols<3>() = d_point;
+  jacobian_pose->template rightCols<3>() = -d_point * Skew(point_cam);
+  if (jacobian_point != nullptr) *jacobian_point = d_point * rotation;
+  return true;
+}
+
 // chi2 (squared weighted residual) of an observation at given estimates; sets *in_front to
 // whether the point is in front of the camera (chi2 is +inf otherwise).
 double ReprojectionChi2(const StereoIntrinsics& k, const ReprojectionMeasurement& m, const Rigid3& cam_from_world,
                         const Vec3& point_world, bool* in_front);
-
-// Residual with the pose as the only parameter block (motion-only BA).
-template <int kResiduals>
-class PoseOnlyCost final : public ceres::SizedCostFunction<kResiduals, kPoseBlockSize> {
- public:
-  PoseOnlyCost(const StereoIntrinsics& k, const ReprojectionMeasurement& m, const Vec3& point_world)
-      : k_(k), m_(m), point_world_(point_world) {}
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
-
- private:
-  StereoIntrinsics k_;
-  ReprojectionMeasurement m_;
-  Vec3 point_world_;
-};
 
 // Residual with pose and point (world, 3) blocks (bundle adjustment).
 template <int kResiduals>
@@ -92,8 +103,6 @@ class PosePointCost final : public ceres::SizedCostFunction<kResiduals, kPoseBlo
 };
 
 // Allocates the mono or stereo variant for the measurement (caller owns it).
-ceres::CostFunction* NewPoseOnlyCost(const StereoIntrinsics& k, const ReprojectionMeasurement& m,
-                                     const Vec3& point_world);
 ceres::CostFunction* NewPosePointCost(const StereoIntrinsics& k, const ReprojectionMeasurement& m);
 
 }  // namespace esdslam

@@ -6,19 +6,13 @@
 
 #include <Eigen/Cholesky>
 
+#include "optim/levenberg_marquardt.h"
+
 namespace esdslam {
 
 namespace {
 
-using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Mat63 = Eigen::Matrix<double, 6, 3>;
-
-// Ceres' Levenberg-Marquardt defaults.
-constexpr double kInitialLambda = 1e-4;
-constexpr double kMaxLambda = 1e32;
-constexpr double kMinDiagonal = 1e-6;
-constexpr double kMaxDiagonal = 1e32;
-constexpr double kMinRelativeDecrease = 1e-3;
 
 // Which blocks are optimised and which observations enter. Slots number the free blocks that
 // at least one inlier touches; -1 marks a fixed or untouched block.
@@ -65,35 +59,10 @@ struct NormalEquations {
   std::vector<Mat63> coupling;  // per inlier position: J_pose^T W J_point (zero unless both free)
 };
 
-// Huber's rho(s) for s = squared whitened residual; *weight = rho'(s), the IRLS weight.
-double Robustify(const SchurLmOptions& options, bool stereo, double s, double* weight) {
-  *weight = 1;
-  if (!options.robust) return s;
-  const double delta = stereo ? options.huber_delta_stereo : options.huber_delta_mono;
-  if (s <= delta * delta) return s;
-  const double root = std::sqrt(s);
-  *weight = delta / root;
-  return 2 * delta * root - delta * delta;
-}
-
-// Residual of one observation and, if jacobian_pose is not null, its Jacobians with respect to
-// the pose tangent (left perturbation, reprojection_cost.h) and the world point. False if the
-// point is not in front of the camera.
-template <int R>
-bool EvaluateTerm(const StereoIntrinsics& k, const BaObservation& o, const double* pose, const Vec3& point_world,
-                  Eigen::Matrix<double, R, 1>* residual, Eigen::Matrix<double, R, 6>* jacobian_pose,
-                  Eigen::Matrix<double, R, 3>* jacobian_point) {
-  const Mat3 rotation = Eigen::Map<const Quat>(pose).toRotationMatrix();
-  const Vec3 point_cam = rotation * point_world + Eigen::Map<const Vec3>(pose + 4);
-  Eigen::Matrix<double, R, 3, Eigen::RowMajor> d_point;
-  if (!ReprojectionResidual<R>(k, BaMeasurement(o), point_cam, residual->data(),
-                               jacobian_pose != nullptr ? d_point.data() : nullptr))
-    return false;
-  if (jacobian_pose == nullptr) return true;
-  jacobian_pose->template leftCols<3>() = d_point;
-  jacobian_pose->template rightCols<3>() = -d_point * Skew(point_cam);
-  *jacobian_point = d_point * rotation;
-  return true;
+// Huber threshold of an observation (whitened px); +inf without the robust loss.
+double DeltaOf(const SchurLmOptions& options, bool stereo) {
+  if (!options.robust) return std::numeric_limits<double>::infinity();
+  return stereo ? options.huber_delta_stereo : options.huber_delta_mono;
 }
 
 template <int R>
@@ -102,9 +71,9 @@ bool AccumulateTerm(const StereoIntrinsics& k, const BaObservation& o, const Sch
   Eigen::Matrix<double, R, 1> r;
   Eigen::Matrix<double, R, 6> jp;
   Eigen::Matrix<double, R, 3> jl;
-  if (!EvaluateTerm<R>(k, o, state.poses[o.keyframe].data(), state.points[o.point], &r, &jp, &jl)) return false;
+  if (!EvaluateReprojection<R>(k, BaMeasurement(o), state.poses[o.keyframe].data(), state.points[o.point], &r, &jp, &jl)) return false;
   double weight = 1;
-  ne->cost += 0.5 * Robustify(options, R == 3, r.squaredNorm(), &weight);
+  ne->cost += 0.5 * HuberRho(r.squaredNorm(), DeltaOf(options, R == 3), &weight);
   if (pose_slot >= 0) {
     ne->pose_h[pose_slot].noalias() += weight * jp.transpose() * jp;
     ne->pose_b[pose_slot].noalias() -= weight * jp.transpose() * r;
@@ -146,16 +115,16 @@ double Cost(const StereoIntrinsics& k, const BaProblem& problem, const Layout& l
     double squared = 0;
     if (o.right_u >= 0) {
       Eigen::Matrix<double, 3, 1> r;
-      if (!EvaluateTerm<3>(k, o, state.poses[o.keyframe].data(), state.points[o.point], &r, nullptr, nullptr))
+      if (!EvaluateReprojection<3>(k, BaMeasurement(o), state.poses[o.keyframe].data(), state.points[o.point], &r, nullptr, nullptr))
         return std::numeric_limits<double>::infinity();
       squared = r.squaredNorm();
     } else {
       Eigen::Matrix<double, 2, 1> r;
-      if (!EvaluateTerm<2>(k, o, state.poses[o.keyframe].data(), state.points[o.point], &r, nullptr, nullptr))
+      if (!EvaluateReprojection<2>(k, BaMeasurement(o), state.poses[o.keyframe].data(), state.points[o.point], &r, nullptr, nullptr))
         return std::numeric_limits<double>::infinity();
       squared = r.squaredNorm();
     }
-    cost += 0.5 * Robustify(options, o.right_u >= 0, squared, &weight);
+    cost += 0.5 * HuberRho(squared, DeltaOf(options, o.right_u >= 0), &weight);
   }
   return cost;
 }
@@ -163,13 +132,7 @@ double Cost(const StereoIntrinsics& k, const BaProblem& problem, const Layout& l
 struct Step {
   std::vector<Vec6> pose;   // per free pose slot, tangent
   std::vector<Vec3> point;  // per free point slot, m
-  double model_decrease = 0;
 };
-
-template <int N>
-Eigen::Matrix<double, N, 1> Damping(const Eigen::Matrix<double, N, N>& h, double lambda) {
-  return lambda * h.diagonal().cwiseMax(kMinDiagonal).cwiseMin(kMaxDiagonal);
-}
 
 // Reduced camera system S dx_pose = rhs: S = H_pp + D_p - sum over points of W V^-1 W^T,
 // rhs = b_p - sum of W V^-1 b_l, with V = H_ll + D_l. Only S's lower triangle is filled.
@@ -180,7 +143,7 @@ void ReduceToPoses(const NormalEquations& ne, const Layout& layout, const BaProb
   rhs->resize(6 * free_poses);
   for (int a = 0; a < free_poses; ++a) {
     s->block<6, 6>(6 * a, 6 * a) = ne.pose_h[a];
-    s->block<6, 6>(6 * a, 6 * a).diagonal() += Damping<6>(ne.pose_h[a], lambda);
+    s->block<6, 6>(6 * a, 6 * a).diagonal() += LmDamping(ne.pose_h[a], lambda);
     rhs->segment<6>(6 * a) = ne.pose_b[a];
   }
   for (size_t l = 0; l < layout.point_terms.size(); ++l) {
@@ -201,12 +164,12 @@ void ReduceToPoses(const NormalEquations& ne, const Layout& layout, const BaProb
 
 // Solves the damped system; false if the reduced system is not positive definite.
 bool SolveDamped(const NormalEquations& ne, const Layout& layout, const BaProblem& problem, double lambda,
-                 Step* step) {
+                 Step* step, double* model_decrease) {
   const size_t free_points = layout.point_of_slot.size(), free_poses = layout.pose_of_slot.size();
   std::vector<Mat3> v_inverse(free_points);
   std::vector<Vec3> point_damping(free_points);
   for (size_t l = 0; l < free_points; ++l) {
-    point_damping[l] = Damping<3>(ne.point_h[l], lambda);
+    point_damping[l] = LmDamping(ne.point_h[l], lambda);
     Mat3 v = ne.point_h[l];
     v.diagonal() += point_damping[l];
     v_inverse[l] = v.inverse();
@@ -222,11 +185,11 @@ bool SolveDamped(const NormalEquations& ne, const Layout& layout, const BaProble
     if (!pose_step.allFinite()) return false;
   }
   step->pose.resize(free_poses);
-  step->model_decrease = 0;
+  *model_decrease = 0;
   for (size_t a = 0; a < free_poses; ++a) {
     step->pose[a] = pose_step.segment<6>(6 * a);
-    const Vec6 damping = Damping<6>(ne.pose_h[a], lambda);
-    step->model_decrease += step->pose[a].dot(ne.pose_b[a] + damping.cwiseProduct(step->pose[a]));
+    const Vec6 damping = LmDamping(ne.pose_h[a], lambda);
+    *model_decrease += step->pose[a].dot(ne.pose_b[a] + damping.cwiseProduct(step->pose[a]));
   }
   step->point.resize(free_points);
   for (size_t l = 0; l < free_points; ++l) {
@@ -237,10 +200,10 @@ bool SolveDamped(const NormalEquations& ne, const Layout& layout, const BaProble
     }
     step->point[l] = v_inverse[l] * b;
     if (!step->point[l].allFinite()) return false;
-    step->model_decrease += step->point[l].dot(ne.point_b[l] + point_damping[l].cwiseProduct(step->point[l]));
+    *model_decrease += step->point[l].dot(ne.point_b[l] + point_damping[l].cwiseProduct(step->point[l]));
   }
   // (H + D) dx = b, so the quadratic model falls by dx.b - dx.H.dx / 2 = (dx.b + dx.D.dx) / 2.
-  step->model_decrease *= 0.5;
+  *model_decrease *= 0.5;
   return true;
 }
 
@@ -270,45 +233,53 @@ bool StepIsTiny(const BaState& state, const Layout& layout, const Step& step, do
   return std::sqrt(step_squared) <= tolerance * (std::sqrt(x_squared) + tolerance);
 }
 
+// The window as MinimizeLm's Problem (levenberg_marquardt.h).
+class SchurBaProblem {
+ public:
+  using State = BaState;
+  using Linearization = NormalEquations;
+  using Step = esdslam::Step;
+
+  SchurBaProblem(const StereoIntrinsics& k, const BaProblem& problem, const SchurLmOptions& options)
+      : k_(k), problem_(problem), options_(options), layout_(MakeLayout(problem)) {}
+
+  bool empty() const { return layout_.inliers.empty(); }
+  bool Linearize(const State& state, Linearization* ne) const {
+    return esdslam::Linearize(k_, problem_, layout_, options_, state, ne);
+  }
+  double CostOf(const Linearization& ne) const { return ne.cost; }
+  bool Solve(const Linearization& ne, double lambda, Step* step, double* model_decrease) const {
+    return SolveDamped(ne, layout_, problem_, lambda, step, model_decrease);
+  }
+  bool StepIsTiny(const State& state, const Step& step, double tolerance) const {
+    return esdslam::StepIsTiny(state, layout_, step, tolerance);
+  }
+  State Apply(const State& state, const Step& step) const { return esdslam::Apply(state, layout_, step); }
+  double Cost(const State& state) const { return esdslam::Cost(k_, problem_, layout_, options_, state); }
+
+ private:
+  const StereoIntrinsics& k_;
+  const BaProblem& problem_;
+  const SchurLmOptions& options_;
+  Layout layout_;
+};
+
 }  // namespace
 
 SchurLmSummary SolveSchurLm(const StereoIntrinsics& k, const BaProblem& problem, const SchurLmOptions& options,
                             const std::atomic<bool>* stop, BaState* state) {
+  const SchurBaProblem window(k, problem, options);
+  if (window.empty()) return {};
+  LmControl control;
+  control.max_iterations = options.max_iterations;
+  control.function_tolerance = options.function_tolerance;
+  control.parameter_tolerance = options.parameter_tolerance;
+  const LmOutcome outcome = MinimizeLm(window, control, stop, state);
   SchurLmSummary summary;
-  const Layout layout = MakeLayout(problem);
-  NormalEquations ne;
-  if (layout.inliers.empty() || !Linearize(k, problem, layout, options, *state, &ne)) return summary;
-  summary.initial_cost = summary.final_cost = ne.cost;
-  double lambda = kInitialLambda, lambda_growth = 2;
-  while (summary.iterations < options.max_iterations && lambda <= kMaxLambda) {
-    if (stop != nullptr && stop->load()) {
-      summary.stopped = true;
-      break;
-    }
-    ++summary.iterations;
-    Step step;
-    const bool solved = SolveDamped(ne, layout, problem, lambda, &step);
-    if (solved && StepIsTiny(*state, layout, step, options.parameter_tolerance)) break;
-    BaState candidate;
-    double new_cost = std::numeric_limits<double>::infinity();
-    if (solved && step.model_decrease > 0) {
-      candidate = Apply(*state, layout, step);
-      new_cost = Cost(k, problem, layout, options, candidate);
-    }
-    const double relative_decrease = (ne.cost - new_cost) / step.model_decrease;
-    if (!std::isfinite(new_cost) || !(relative_decrease > kMinRelativeDecrease)) {
-      lambda *= lambda_growth;  // rejected: more damping, the same linearization
-      lambda_growth *= 2;
-      continue;
-    }
-    const double previous_cost = ne.cost;
-    *state = std::move(candidate);
-    if (!Linearize(k, problem, layout, options, *state, &ne)) break;  // cannot happen: cost was finite
-    summary.final_cost = ne.cost;
-    lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2 * relative_decrease - 1, 3));
-    lambda_growth = 2;
-    if (previous_cost - ne.cost <= options.function_tolerance * previous_cost) break;
-  }
+  summary.initial_cost = outcome.initial_cost;
+  summary.final_cost = outcome.final_cost;
+  summary.iterations = outcome.iterations;
+  summary.stopped = outcome.stopped;
   return summary;
 }
 

@@ -64,10 +64,40 @@ TEST_F(ReprojectionCostTest, AnalyticJacobiansMatchNumericOnes) {
   double pose[7];
   PoseToBlock(cam_from_world_, pose);
   ASSERT_GT((cam_from_world_ * point_world_).z(), 0.5);
-  CheckJacobians<2>(PoseOnlyCost<2>(k_, mono_, point_world_), pose, nullptr);
-  CheckJacobians<3>(PoseOnlyCost<3>(k_, stereo_, point_world_), pose, nullptr);
   CheckJacobians<2>(PosePointCost<2>(k_, mono_), pose, point_world_.data());
   CheckJacobians<3>(PosePointCost<3>(k_, stereo_), pose, point_world_.data());
+}
+
+// The Ceres-free evaluation (our solvers) equals the Ceres cost function checked above.
+template <int kResiduals>
+void ExpectSameAsPosePointCost(const StereoIntrinsics& k, const ReprojectionMeasurement& m, const double* pose,
+                               const Vec3& point_world) {
+  Eigen::Matrix<double, kResiduals, 1> residual;
+  Eigen::Matrix<double, kResiduals, 6> jacobian_pose;
+  Eigen::Matrix<double, kResiduals, 3> jacobian_point;
+  ASSERT_TRUE(EvaluateReprojection<kResiduals>(k, m, pose, point_world, &residual, &jacobian_pose, &jacobian_point));
+  double ceres_residual[kResiduals], ceres_pose[kResiduals * 7], ceres_point[kResiduals * 3];
+  double* jacobians[2] = {ceres_pose, ceres_point};
+  const double* params[2] = {pose, point_world.data()};
+  ASSERT_TRUE(PosePointCost<kResiduals>(k, m).Evaluate(params, ceres_residual, jacobians));
+  for (int r = 0; r < kResiduals; ++r) {
+    EXPECT_NEAR(residual(r), ceres_residual[r], 1e-12);
+    for (int c = 0; c < 6; ++c) EXPECT_NEAR(jacobian_pose(r, c), ceres_pose[r * 7 + c], 1e-9);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(jacobian_point(r, c), ceres_point[r * 3 + c], 1e-9);
+  }
+  Eigen::Matrix<double, kResiduals, 1> residual_only;
+  ASSERT_TRUE(EvaluateReprojection<kResiduals>(k, m, pose, point_world, &residual_only, nullptr, nullptr));
+  EXPECT_EQ(residual_only, residual);
+  double behind[7];
+  PoseToBlock(Rigid3(Quat::Identity(), Vec3(0, 0, -10)), behind);
+  EXPECT_FALSE(EvaluateReprojection<kResiduals>(k, m, behind, point_world, &residual_only, nullptr, nullptr));
+}
+
+TEST_F(ReprojectionCostTest, EvaluateReprojectionMatchesTheCeresCost) {
+  double pose[7];
+  PoseToBlock(cam_from_world_, pose);
+  ExpectSameAsPosePointCost<2>(k_, mono_, pose, point_world_);
+  ExpectSameAsPosePointCost<3>(k_, stereo_, pose, point_world_);
 }
 
 TEST_F(ReprojectionCostTest, ResidualIsTheWeightedReprojectionError) {
