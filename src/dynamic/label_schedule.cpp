@@ -30,11 +30,4 @@ bool LabelSchedule::Submit(std::int64_t id, bool needs_labels) {
   return true;
 }
 
-std::optional<std::int64_t> LabelSchedule::Due(std::int64_t id) const {
-  if (!in_flight_) return std::nullopt;
-  const int delay = options_.newest_wins ? 0 : options_.label_delay_frames;
-  if (id < *in_flight_ + delay) return std::nullopt;
-  return in_flight_;
-}
-
 }  // namespace esdslam

@@ -9,9 +9,13 @@
 //     the network was busy (owed), or the newest predicted mask is no longer trusted);
 //   - newest_wins (`--realtime`): every frame is a candidate: the network takes a frame whenever
 //     it is free, and its labels are used as soon as they are back (L is 0);
-//   - the labels of the frame in flight, s, are due from frame s + L on. A single-thread run
-//     waits for them at s + L (deterministic); a threaded run takes them at the first frame
-//     >= s + L at which they are back (tracking never waits).
+//   - the network is free again as soon as the labels of the frame in flight, s, are back (Done);
+//     they are used from frame s + L on (label_delay). Frames reach the schedule ahead of their
+//     masks (the run loop looks ahead, Semantic.lookAhead), so labels are usually back before
+//     their own frame is masked. A single-thread run waits for the labels in flight before the
+//     next frame is submitted (the network is never found busy there, so which frames are
+//     labelled does not depend on timing) and at s + L; a threaded run takes them at the first
+//     frame >= s + L at which they are back (tracking never waits).
 
 #include <cstdint>
 #include <optional>
@@ -20,7 +24,7 @@ namespace esdslam {
 
 struct LabelScheduleOptions {
   int segment_every = 4;       // K >= 1 (frames)
-  int label_delay_frames = 2;  // L >= 0 (frames)
+  int label_delay_frames = 0;  // L >= 0 (frames)
   bool newest_wins = false;    // K and L ignored (as 1 and 0)
   void Check() const;          // throws Error naming the value out of bounds
 };
@@ -32,9 +36,9 @@ class LabelSchedule {
   // Frame `id` is loaded (ids increase). needs_labels: the newest predicted mask asks for labels.
   // True: send it to the network now (it becomes the frame in flight).
   bool Submit(std::int64_t id, bool needs_labels);
-  // The frame in flight when its labels are due at frame `id`, else nullopt.
-  std::optional<std::int64_t> Due(std::int64_t id) const;
-  // The in-flight frame's labels were used (or will never come): the network is free.
+  // Frames from a labelled frame s to the first frame that uses its labels (s + L); 0 for newest_wins.
+  int label_delay() const { return options_.newest_wins ? 0 : options_.label_delay_frames; }
+  // The in-flight frame's labels are back (or will never come): the network is free.
   void Done() { in_flight_.reset(); }
 
   std::optional<std::int64_t> in_flight() const { return in_flight_; }

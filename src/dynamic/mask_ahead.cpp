@@ -24,11 +24,20 @@ MaskAhead::~MaskAhead() {
   }
 }
 
-void MaskAhead::Submit(std::int64_t id, double timestamp, const cv::Mat& bgr, const cv::Mat& depth_m) {
-  if (!worker_.threaded()) {
-    front_end_->Submit(id, timestamp, bgr);
-    return;
+void MaskAhead::Label(std::int64_t id, double timestamp, const cv::Mat& bgr) {
+  if (id <= labelled_until_)
+    throw Error(fmt::format("mask stage: frame {} labelled after frame {}", id, labelled_until_));
+  if (worker_.threaded()) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ThrowIfFailed();
   }
+  labelled_until_ = id;
+  front_end_->Submit(id, timestamp, bgr);
+}
+
+void MaskAhead::Submit(std::int64_t id, double timestamp, const cv::Mat& bgr, const cv::Mat& depth_m) {
+  if (id > labelled_until_) Label(id, timestamp, bgr);
+  if (!worker_.threaded()) return;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ThrowIfFailed();
@@ -59,7 +68,6 @@ void MaskAhead::Make(Job& job) {
     if (stopping_ || !failure_.empty()) return;
   }
   try {
-    front_end_->Submit(job.id, job.timestamp, job.bgr);
     DynamicMaskResult mask = front_end_->MaskFor(job.id, job.bgr, job.depth_m);
     std::lock_guard<std::mutex> lock(mutex_);
     results_.emplace(job.id, std::move(mask));

@@ -4,10 +4,13 @@
 // carried along the optical flow, region growing, dilation: SemanticFrontEnd::MaskFor) is made
 // while frame i is extracted and tracked, so it leaves the tracking thread's critical path.
 //
-// WorkerMode::kThread: the thread calls front_end.Submit(id) and then front_end.MaskFor(id) for
-//   every submitted frame, in order; the front end is used by that thread only (it is not
-//   thread-safe), except SemanticFrontEnd::Stats(), which is. MaskFor(id) on the caller's side
-//   waits for frame id's mask (MaskAheadWait::wait_ms says how long).
+// Two steps per frame: Label(id) hands the frame to the network's schedule at once, on the
+// caller's thread (front_end.Submit; the run loop does it Semantic.lookAhead frames before the
+// frame is tracked), Submit(id) queues its mask (one frame ahead of tracking).
+// WorkerMode::kThread: the thread calls front_end.MaskFor(id) for every submitted frame, in
+//   order; the front end's Submit runs on the caller's thread (the front end allows those two
+//   threads). MaskFor(id) on the caller's side waits for frame id's mask (MaskAheadResult::wait_ms
+//   says how long).
 // WorkerMode::kInline (--single-thread): no thread; Submit and MaskFor call the front end on the
 //   caller's thread exactly where the pipeline called it before (Submit when the frame is
 //   submitted, MaskFor when it is tracked), so single-thread runs keep their exact results.
@@ -43,7 +46,9 @@ class MaskAhead {
   MaskAhead(const MaskAhead&) = delete;
   MaskAhead& operator=(const MaskAhead&) = delete;
 
-  // Frame `id` (ids increase) with its images, shared, never written afterwards.
+  // Frame `id` (ids increase) to the network's schedule; bgr shared, never written afterwards.
+  void Label(std::int64_t id, double timestamp, const cv::Mat& bgr);
+  // Frame `id`'s mask queued (ids increase; Label(id) first if not done yet), images shared.
   void Submit(std::int64_t id, double timestamp, const cv::Mat& bgr, const cv::Mat& depth_m);
   // The mask of submitted frame `id` (asked in id order, each once). Throws Error.
   MaskAheadResult MaskFor(std::int64_t id, const cv::Mat& bgr, const cv::Mat& depth_m);
@@ -66,6 +71,7 @@ class MaskAhead {
   std::condition_variable ready_;
   std::map<std::int64_t, DynamicMaskResult> results_;  // made, not asked for yet
   std::string failure_;                                // the first failure; empty if none
+  std::int64_t labelled_until_ = -1;                   // caller's thread: last id given to Label
   bool stopping_ = false;                              // Stop: the queued frames are skipped
   Worker<Job> worker_;                                 // last: its thread goes first
 };

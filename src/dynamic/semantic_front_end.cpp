@@ -1,6 +1,8 @@
 #include "dynamic/semantic_front_end.h"
 
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
@@ -102,8 +104,33 @@ void SemanticFrontEnd::Stop() {
 }
 
 void SemanticFrontEnd::Submit(std::int64_t id, double timestamp, const cv::Mat& bgr) {
-  if (schedule_ && !schedule_->Submit(id, needs_labels_)) return;
+  if (schedule_) {
+    std::unique_lock<std::mutex> lock(schedule_mutex_);
+    RetireBackLabels(lock, /*wait=*/wait_for_due_labels_);
+    if (!schedule_->Submit(id, needs_labels_)) return;
+  }
   if (!worker_->Submit({id, timestamp, bgr})) throw Error("semantic: segmentation worker stopped");
+}
+
+// The frame in flight, when its labels are back, moved to ready_ (the network is free again).
+// wait: waits for them (single-thread runs: the schedule then never finds the network busy, so
+// the labelled frames do not depend on timing). schedule_mutex_ held by `lock`; released while
+// waiting.
+void SemanticFrontEnd::RetireBackLabels(std::unique_lock<std::mutex>& lock, bool wait) {
+  const std::optional<std::int64_t> in_flight = schedule_->in_flight();
+  if (!in_flight) return;
+  std::optional<SegmentedFrame> done;
+  if (wait) {
+    lock.unlock();
+    done = worker_->WaitFor(*in_flight);
+    lock.lock();
+    if (schedule_->in_flight() != in_flight) return;  // the other thread retired it meanwhile
+  } else {
+    done = worker_->Latest();  // one frame in flight: the newest result is it once it is back
+    if (!done || done->id != *in_flight) return;
+  }
+  schedule_->Done();
+  if (done) ready_.push_back(std::move(*done));  // nullopt: never segmented (stopped)
 }
 
 DynamicMaskResult SemanticFrontEnd::MaskFor(std::int64_t id, const cv::Mat& bgr, const cv::Mat& depth_m) {
@@ -143,7 +170,10 @@ SemanticMasks SemanticFrontEnd::PredictedMasks(std::int64_t id, const cv::Mat& b
   MaskPrediction prediction = predictor_->Predict();
   out.predict_ms = add_ms + predict.ElapsedMs();
   out.predict_cpu_ms = add_cpu_ms + predict_cpu.ElapsedMs();
-  needs_labels_ = prediction.needs_labels;
+  {
+    std::lock_guard<std::mutex> lock(schedule_mutex_);
+    needs_labels_ = prediction.needs_labels;
+  }
   out.source_id = prediction.source_id;
   out.warped = prediction.label_age > 0;
   out.trust = prediction.trust;
@@ -152,30 +182,32 @@ SemanticMasks SemanticFrontEnd::PredictedMasks(std::int64_t id, const cv::Mat& b
   return std::move(prediction.masks);
 }
 
-// The labels of the frame in flight, when due at frame id: waited for (single thread, and the
-// first labels of a run) or taken if back (threaded), and given to the predictor.
+// The labels due at frame id (back, and of a frame at least L frames before it) given to the
+// predictor. The run's first labels are waited for at once (see the header): the map starts on
+// the first frames, and the people there must be masked. Afterwards a threaded run never waits;
+// a single-thread run waits for labels due and not back.
 void SemanticFrontEnd::AddDueLabels(std::int64_t id, DynamicMaskResult& out) {
-  std::optional<std::int64_t> due = schedule_->Due(id);
-  // The map is initialised on the first frames (and the dense map's first keyframe is made
-  // there): the first labels are waited for at once, so that its people are masked. Once, at
-  // start-up; afterwards a threaded run never waits.
-  const bool first_labels = predictor_->source_frame() < 0 && schedule_->in_flight().has_value();
-  if (first_labels) due = schedule_->in_flight();
-  if (!due) return;
-  std::optional<SegmentedFrame> done;
-  if (wait_for_due_labels_ || first_labels) {
-    Stopwatch wait;
-    done = worker_->WaitFor(*due);
-    out.wait_ms = wait.ElapsedMs();
-  } else {
-    done = worker_->Latest();  // one frame in flight: the newest result is it once it is back
-    if (!done || done->id != *due) return;
+  std::vector<SegmentedFrame> due;
+  {
+    std::unique_lock<std::mutex> lock(schedule_mutex_);
+    const bool first_labels = predictor_->source_frame() < 0;
+    const int delay = first_labels ? 0 : schedule_->label_delay();
+    const std::optional<std::int64_t> in_flight = schedule_->in_flight();
+    const bool in_flight_due = in_flight && *in_flight + delay <= id;
+    const bool ready_due = !ready_.empty() && ready_.front().id + delay <= id;
+    const bool wait = in_flight_due && (wait_for_due_labels_ || (first_labels && !ready_due));
+    Stopwatch wait_watch;
+    RetireBackLabels(lock, wait);
+    if (wait) out.wait_ms = wait_watch.ElapsedMs();
+    while (!ready_.empty() && ready_.front().id + delay <= id) {
+      due.push_back(std::move(ready_.front()));
+      ready_.pop_front();
+    }
   }
-  schedule_->Done();
-  if (!done) return;  // never segmented (stopped)
-  if (predictor_->AddLabels(done->id, done->result.labels)) {
-    source_segment_ms_ = done->result.segment_ms;
-    source_latency_ms_ = done->latency_ms;
+  for (const SegmentedFrame& done : due) {
+    if (!predictor_->AddLabels(done.id, done.result.labels)) continue;
+    source_segment_ms_ = done.result.segment_ms;
+    source_latency_ms_ = done.latency_ms;
   }
 }
 

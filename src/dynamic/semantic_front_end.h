@@ -10,7 +10,9 @@
 //     the predicted mask is no longer trusted, one frame in flight). Every frame gets the newest
 //     labels carried to it along dense optical flow (MaskPredictor, dynamic/mask_predictor.h:
 //     the people's own motion and the camera's). Labels are used from L frames after their
-//     frame on; a threaded run takes them when they are back (never waits), a single-thread run
+//     frame on (Semantic.labelDelay, default 0: the run loop hands each frame to the schedule
+//     Semantic.lookAhead frames before its mask is made, which hides the network's latency); a
+//     threaded run takes them when they are back (never waits), a single-thread run
 //     (wait_for_due_labels) waits for them at exactly that frame, so its masks repeat exactly.
 //     The first labels of a run (frame 0's) are waited for at frame 0, once: the map and the
 //     dense map start there, and people there must be masked.
@@ -20,12 +22,15 @@
 // MaskRefineOptions::scale (Dynamic.refineScale) and enlarged back at the end. A predicted mask steers the extractor's keypoint
 // budget exactly as a fresh one does (it is the same DynamicMaskResult).
 //
-// Threading: all calls from one thread (the mask thread of dynamic/mask_ahead.h, or the tracking
-// thread with --single-thread), except Stats(), which is thread-safe; the SegmentationWorker owns
-// the network's thread.
+// Threading: Submit may be called from one thread (the tracking thread: the run loop hands frames
+// to the network several frames ahead of their masks, Semantic.lookAhead) and MaskFor from
+// another (the mask thread of dynamic/mask_ahead.h), or both from the tracking thread with
+// --single-thread; Stats() is thread-safe; the SegmentationWorker owns the network's thread.
 
 #include <cstdint>
+#include <deque>
 #include <memory>
+#include <mutex>
 #include <optional>
 
 #include <opencv2/core.hpp>
@@ -84,6 +89,7 @@ class SemanticFrontEnd {
 
  private:
   void AddDueLabels(std::int64_t id, DynamicMaskResult& out);
+  void RetireBackLabels(std::unique_lock<std::mutex>& lock, bool wait);
   SemanticMasks PredictedMasks(std::int64_t id, const cv::Mat& bgr, const cv::Mat& depth_m, DynamicMaskResult& out);
   void Refine(const SemanticMasks& masks, const cv::Mat& depth_m, DynamicMaskResult& out) const;
 
@@ -91,9 +97,13 @@ class SemanticFrontEnd {
   RegionGrowingOptions growing_;
   MaskRefineOptions refine_;
   bool wait_for_due_labels_;
+  // schedule_mutex_ guards schedule_, needs_labels_ and ready_ (Submit and MaskFor may come
+  // from two threads); a leaf lock, never held while waiting for the network.
+  std::mutex schedule_mutex_;
   std::optional<LabelSchedule> schedule_;        // predicted mode only
-  std::unique_ptr<MaskPredictor> predictor_;     // predicted mode, made at the first frame
-  bool needs_labels_ = true;                     // the newest prediction asks for labels
+  bool needs_labels_ = false;                    // the newest prediction asks for labels (frame 0 is scheduled)
+  std::deque<SegmentedFrame> ready_;             // labels back, not yet due (oldest first)
+  std::unique_ptr<MaskPredictor> predictor_;     // predicted mode, made at the first frame; MaskFor's thread
   double source_segment_ms_ = 0, source_latency_ms_ = 0;  // of the labels in the predictor
   std::unique_ptr<SegmentationWorker> worker_;
 };

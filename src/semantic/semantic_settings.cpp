@@ -51,6 +51,7 @@ void SemanticSettings::Check() const {
   CheckRange("Semantic.threads", onnx.threads, 0, 256);
   CheckRange("Semantic.segmentEvery", segment_every, 1, 1000, "frames (1 = every frame)");
   CheckRange("Semantic.labelDelay", label_delay_frames, 0, 100, "frames");
+  CheckRange("Semantic.lookAhead", look_ahead_frames, 1, 30, "frames");
   if (kind == Kind::kProvided) {
     CheckSetting(segment_every == 1 && mode == SegmentationMode::kEveryFrame, "Semantic.segmentEvery",
                  "must be 1 (and Semantic.realtime 0) with Semantic.segmenter: provided: every frame brings its labels");

@@ -34,7 +34,12 @@ struct SemanticSettings {
   int segment_every = 4;
   // Semantic.labelDelay L: with K > 1, labels are used from L frames after their frame on (a
   // single-thread run waits for them there, so it repeats exactly). [0, 100] frames.
-  int label_delay_frames = 2;
+  int label_delay_frames = 0;
+  // Semantic.lookAhead A: with K > 1 (not --realtime, not --live), a recorded sequence's frames
+  // reach the label schedule A frames before they are tracked, so the network labels frame s
+  // while the frames before it are tracked and its labels are back by the time s is masked.
+  // Costs A decoded frames of memory and nothing on a live camera (not used there). [1, 30].
+  int look_ahead_frames = 8;
   // Semantic.model not given: the model follows the schedule (ApplyLabelSchedule).
   bool model_auto = true;
   bool threads_auto = true;  // Semantic.threads not given (0): chosen with the model

@@ -105,20 +105,31 @@ void Pipeline::SubmitAhead(const RgbdFrame& frame) {
     throw Error(fmt::format("frame {:.6f}: no labels given (Semantic.segmenter: provided needs each frame's labels)",
                             frame.timestamp));
   if (provided_labels_) provided_labels_->Put(frame.timestamp, frame.labels);
-  if (masks_) masks_->Submit(next_id_, frame.timestamp, frame.bgr, frame.depth_m);
+  if (masks_) masks_->Label(next_id_, frame.timestamp, frame.bgr);
   ++next_id_;
-  ahead_.push_back(frame.timestamp);
+  ahead_.push_back(frame);
+}
+
+// The masks of the frames up to `last_id` that are submitted ahead queued on the mask stage.
+void Pipeline::QueueMasks(std::int64_t last_id) {
+  if (!masks_) return;
+  const std::int64_t first_ahead = next_id_ - static_cast<std::int64_t>(ahead_.size());
+  for (; next_masked_ <= last_id && next_masked_ < next_id_; ++next_masked_) {
+    const RgbdFrame& frame = ahead_[static_cast<std::size_t>(next_masked_ - first_ahead)];
+    masks_->Submit(next_masked_, frame.timestamp, frame.bgr, frame.depth_m);
+  }
 }
 
 FrameReport Pipeline::Track(const RgbdFrame& frame) {
   if (slam_stopped_) throw Error("pipeline: Track after Finish");
   CheckImageSize(frame, config_.settings.core.camera);
   if (ahead_.empty()) SubmitAhead(frame);
-  if (ahead_.front() != frame.timestamp)
+  if (ahead_.front().timestamp != frame.timestamp)
     throw Error(fmt::format("pipeline: frame {:.6f} tracked, but frame {:.6f} was submitted first", frame.timestamp,
-                            ahead_.front()));
+                            ahead_.front().timestamp));
   FrameReport report;
   report.index = next_id_ - static_cast<std::int64_t>(ahead_.size());
+  QueueMasks(report.index + 1);  // this frame's mask and the next one's, made while this one is tracked
   ahead_.pop_front();
   report.timestamp = frame.timestamp;
   report.bgr = frame.bgr;

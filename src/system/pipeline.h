@@ -14,11 +14,13 @@
 //   3. a new keyframe handed to the dense mapper with its depth masked by the semantic and the
 //      geometry masks;
 //   4. the FrameReport (system/frame_report.h).
-// Look-ahead: SubmitAhead(frame) hands a frame to the semantic stage before the previous frame is
-// tracked (the run loop submits frame i+1, then tracks frame i): in a threaded run its mask is
-// made on the mask thread (dynamic/mask_ahead.h) while frame i is extracted and tracked, and the
-// network runs on its own thread. A frame not submitted ahead is submitted by
-// Track itself (a live caller without look-ahead simply calls Track). Frames are numbered in
+// Look-ahead: SubmitAhead(frame) hands a frame to the network's label schedule before the frames
+// before it are tracked (the run loop submits look_ahead() frames ahead: frame i+1, or i+A with
+// Semantic.lookAhead A on a recorded sequence, then tracks frame i), so the network labels it
+// while earlier frames are tracked. Track(i) queues the masks of frames i and i+1: in a threaded
+// run the mask of i+1 is made on the mask thread (dynamic/mask_ahead.h) while frame i is
+// extracted and tracked. A frame not submitted ahead is submitted by Track itself (a live caller
+// without look-ahead simply calls Track). Frames are numbered in
 // submission order (FrameReport::index); they must be tracked in that order.
 // Which frames the network labels is decided by frame id in the semantic stage (LabelSchedule);
 // a caller's own dynamic mask (RgbdFrame::dynamic_mask) joins the mask in step 1, and with
@@ -70,6 +72,8 @@ class Pipeline {
   void Finish(const std::string& out_dir);
 
   const RunConfig& config() const { return config_; }
+  // Frames a run loop submits ahead of the frame it tracks (PipelineOptions::look_ahead_frames).
+  int look_ahead() const { return config_.pipeline.look_ahead_frames; }
   SlamSystem& system() { return *system_; }
   const SlamSystem& system() const { return *system_; }
   // Null without dense. Thread-safe on-demand builds at the current keyframe poses.
@@ -78,6 +82,7 @@ class Pipeline {
 
  private:
   void AddDenseKeyframe(const RgbdFrame& frame, const cv::Mat& mask, KeyFrame* keyframe);
+  void QueueMasks(std::int64_t last_id);
 
   const RunConfig config_;
   std::shared_ptr<ProvidedLabels> provided_labels_;  // Semantic.segmenter: provided; else null
@@ -86,7 +91,8 @@ class Pipeline {
   std::unique_ptr<SlamKeyframePoses> dense_poses_;  // before dense_: its worker reads them
   std::unique_ptr<DenseMapper> dense_;
   std::int64_t next_id_ = 0;         // id of the next frame submitted
-  std::deque<double> ahead_;         // timestamps of the frames submitted but not tracked, oldest first
+  std::deque<RgbdFrame> ahead_;      // the frames submitted but not tracked, oldest first (images shared)
+  std::int64_t next_masked_ = 0;     // id of the next frame whose mask is queued
   bool slam_stopped_ = false;  // StopSlam ran: no more frames
   bool finished_ = false;
 };

@@ -41,6 +41,8 @@ void PipelineOptions::Check() const {
   if (std::find(std::begin(kDynamicModes), std::end(kDynamicModes), mode) == std::end(kDynamicModes))
     throw Error("pipeline: unknown dynamic mode " + std::to_string(static_cast<int>(mode)));
   if (!dense && !dense_mask_dir.empty()) throw Error("pipeline: dense_mask_dir needs the dense map");
+  if (look_ahead_frames < 1 || look_ahead_frames > 30)
+    throw Error("pipeline: look_ahead_frames must be in [1, 30], got " + std::to_string(look_ahead_frames));
 }
 
 void RunOptions::Check() const {
@@ -102,6 +104,11 @@ RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags) {
   if (flags.dense && !flags.run.out_dir.empty())
     config.pipeline.dense_mask_dir = (std::filesystem::path(flags.run.out_dir) / "masks").string();
   config.pipeline.threaded_dense = !flags.single_thread;
+  const SemanticSettings& semantic = config.settings.semantic;
+  // A camera's frames cannot be read ahead: looking ahead there would delay every pose.
+  if (UsesSegmentation(flags.mode) && semantic.predicted() && semantic.mode != SegmentationMode::kNewestWins &&
+      !flags.run.live)
+    config.pipeline.look_ahead_frames = semantic.look_ahead_frames;
   config.run = flags.run;
   config.Check();
   return config;
@@ -119,8 +126,10 @@ void LogRunConfig(const RunConfig& config) {
                                  ? std::string("newest frame whenever the network is free, predicted masks between")
                              : semantic.segment_every == 1
                                  ? std::string("every frame")
-                                 : fmt::format("every {}th frame, predicted masks between (labels used {} frames later)",
-                                               semantic.segment_every, semantic.label_delay_frames);
+                                 : fmt::format("every {}th frame, predicted masks between (frames submitted {} ahead, "
+                                               "labels used {} frames later)",
+                                               semantic.segment_every, config.pipeline.look_ahead_frames,
+                                               semantic.label_delay_frames);
   spdlog::info("run: mode {}, {}, seed {}; effective settings in {}", ToString(config.pipeline.mode),
                config.slam.single_thread ? "single thread" : "threaded", config.settings.loop.relocalizer.pnp.seed,
                where);

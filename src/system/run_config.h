@@ -48,6 +48,9 @@ struct PipelineOptions {
   bool dense = false;          // dense map of the keyframes, written by Pipeline::Finish
   std::string dense_mask_dir;  // with dense: each keyframe's dynamic mask as <timestamp>.png; empty = not saved
   bool threaded_dense = true;  // dense mapping on its own thread (else on the tracking thread)
+  // Frames the run loop submits ahead of the one it tracks (system/run_loop.h), [1, 30]: 1, or
+  // Semantic.lookAhead with predicted masks on a recorded sequence (not --realtime, not --live).
+  int look_ahead_frames = 1;
   void Check() const;          // throws Error
 };
 

@@ -1,5 +1,7 @@
 #include "system/run_loop.h"
 
+#include <deque>
+#include <exception>
 #include <optional>
 #include <utility>
 
@@ -23,19 +25,34 @@ bool RunFrames(FrameSource& source, Pipeline& pipeline, const FrameCallback& on_
                const StopPredicate& stop_requested) {
   const auto stop = [&stop_requested] { return stop_requested && stop_requested(); };
   if (stop()) return true;
+  const std::size_t window = static_cast<std::size_t>(pipeline.look_ahead()) + 1;  // tracked + ahead
   double load_ms = 0;  // loading done during the current frame's step
-  std::optional<RgbdFrame> current = TakeAhead(source, pipeline, &load_ms);
-  while (current) {
-    std::optional<RgbdFrame> next = TakeAhead(source, pipeline, &load_ms);
-    FrameReport report = pipeline.Track(*current);
+  std::deque<RgbdFrame> frames;  // submitted, not tracked; oldest first
+  bool source_done = false;
+  std::exception_ptr source_error;  // what the source threw; passed on after the frames before it
+  while (true) {
+    while (!source_done && frames.size() < window) {
+      try {
+        std::optional<RgbdFrame> next = TakeAhead(source, pipeline, &load_ms);
+        if (next) frames.push_back(std::move(*next));
+        else source_done = true;
+      } catch (...) {  // the frames read before it are tracked first
+        source_error = std::current_exception();
+        source_done = true;
+      }
+    }
+    if (frames.empty()) {
+      if (source_error) std::rethrow_exception(source_error);
+      return false;
+    }
+    FrameReport report = pipeline.Track(frames.front());
     report.load_ms = load_ms;
-    report.dropped_before = current->dropped_before;
+    report.dropped_before = frames.front().dropped_before;
     load_ms = 0;
+    frames.pop_front();
     on_frame(report);
     if (stop()) return true;
-    current = std::move(next);
   }
-  return false;
 }
 
 }  // namespace esdslam

@@ -89,6 +89,7 @@ SemanticKeys SemanticKeys::From(const SemanticSettings& s) {
   k.realtime = s.mode == SegmentationMode::kNewestWins;
   k.segment_every = s.segment_every;
   k.label_delay = s.label_delay_frames;
+  k.look_ahead = s.look_ahead_frames;
   return k;
 }
 
@@ -100,6 +101,7 @@ SemanticSettings SemanticKeys::ToSemanticSettings(const std::string& settings_di
   s.mode = realtime ? SegmentationMode::kNewestWins : SegmentationMode::kEveryFrame;
   s.segment_every = segment_every;
   s.label_delay_frames = label_delay;
+  s.look_ahead_frames = look_ahead;
   s.onnx.threads = threads;
   s.threads_auto = threads == 0;
   s.model_auto = model.empty();
@@ -138,6 +140,7 @@ void BindSemanticSettings(SemanticKeys& k, SettingsTable& table) {
   table.Add("Semantic.realtime", &k.realtime);
   table.Add("Semantic.segmentEvery", &k.segment_every);
   table.Add("Semantic.labelDelay", &k.label_delay);
+  table.Add("Semantic.lookAhead", &k.look_ahead);
 }
 
 void BindDynamicSettings(RunSettings& run, SettingsTable& table) {

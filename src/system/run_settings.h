@@ -14,7 +14,9 @@
 //   Semantic.realtime: 1 = newest-wins: the network takes the newest frame whenever it is free
 //   Semantic.segmentEvery: K, 1 = every frame (tracking waits for its labels); K > 1 (default 4)
 //     = every K-th frame, predicted masks between (dynamic/semantic_front_end.h)
-//   Semantic.labelDelay: labels used from this many frames after their frame on (default 2)
+//   Semantic.labelDelay: labels used from this many frames after their frame on (default 0)
+//   Semantic.lookAhead: frames a recorded sequence reaches the label schedule before it is
+//     tracked (default 8; SemanticSettings::look_ahead_frames)
 // Dynamic.* keys: Dynamic.grow.* (RegionGrowingOptions) and Dynamic.check.* (GeometryFilterOptions:
 // the check itself, its own region growing under Dynamic.check.grow.*, reference keyframes and
 // their minimum age Dynamic.check.minReferenceAge (s),
@@ -69,7 +71,8 @@ struct SemanticKeys {
   bool allow_missing_masks = false;
   bool realtime = false;
   int segment_every = 4;
-  int label_delay = 2;
+  int label_delay = 0;
+  int look_ahead = 8;
 
   // The keys of `settings` (inverse of ToSemanticSettings, for saving).
   static SemanticKeys From(const SemanticSettings& settings);

@@ -54,12 +54,25 @@ TEST(RunConfigTest, LabelScheduleChoosesTheModelWhenNotGiven) {
   const RunSettings file = SettingsFrom("schedule", "");
   RunConfig config = ResolveRunConfig(file, RunFlags{});
   EXPECT_EQ(config.settings.semantic.segment_every, 4);
-  EXPECT_EQ(config.settings.semantic.label_delay_frames, 2);
+  EXPECT_EQ(config.settings.semantic.label_delay_frames, 0);
+  EXPECT_EQ(config.pipeline.look_ahead_frames, 8);  // a recorded sequence is read ahead for the network
   EXPECT_EQ(config.settings.semantic.onnx.input_width, 256);
   EXPECT_EQ(config.settings.semantic.onnx.threads, 1);
+  RunFlags live;
+  live.run.live = true;
+  EXPECT_EQ(ResolveRunConfig(file, live).pipeline.look_ahead_frames, 1);  // a camera's frames cannot be
+  RunFlags realtime;
+  realtime.realtime = true;
+  EXPECT_EQ(ResolveRunConfig(file, realtime).pipeline.look_ahead_frames, 1);
+  RunFlags none;
+  none.mode = DynamicMode::kNone;
+  EXPECT_EQ(ResolveRunConfig(file, none).pipeline.look_ahead_frames, 1);
+  EXPECT_EQ(ResolveRunConfig(SettingsFrom("look_ahead", "Semantic.lookAhead: 7\n"), RunFlags{}).pipeline.look_ahead_frames, 7);
+  EXPECT_THROW(SettingsFrom("look_ahead_bad", "Semantic.lookAhead: 0\n"), InputError);
   RunFlags every;
   every.segment_every = 1;
   config = ResolveRunConfig(file, every);
+  EXPECT_EQ(config.pipeline.look_ahead_frames, 1);
   EXPECT_EQ(config.settings.semantic.segment_every, 1);
   EXPECT_EQ(config.settings.semantic.onnx.input_width, 384);
   EXPECT_EQ(config.settings.semantic.onnx.threads, 0);
