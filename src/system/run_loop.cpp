@@ -1,5 +1,6 @@
 #include "system/run_loop.h"
 
+#include <algorithm>
 #include <deque>
 #include <exception>
 #include <optional>
@@ -26,12 +27,15 @@ bool RunFrames(FrameSource& source, Pipeline& pipeline, const FrameCallback& on_
   const auto stop = [&stop_requested] { return stop_requested && stop_requested(); };
   if (stop()) return true;
   const std::size_t window = static_cast<std::size_t>(pipeline.look_ahead()) + 1;  // tracked + ahead
+  // The window opens by one frame per frame tracked: at the start the network is still on frame
+  // 0 (waited for there), and frames handed to the schedule while it is busy are not labelled.
+  std::size_t tracked = 0;
   double load_ms = 0;  // loading done during the current frame's step
   std::deque<RgbdFrame> frames;  // submitted, not tracked; oldest first
   bool source_done = false;
   std::exception_ptr source_error;  // what the source threw; passed on after the frames before it
   while (true) {
-    while (!source_done && frames.size() < window) {
+    while (!source_done && frames.size() < std::min(window, tracked + 2)) {
       try {
         std::optional<RgbdFrame> next = TakeAhead(source, pipeline, &load_ms);
         if (next) frames.push_back(std::move(*next));
@@ -50,6 +54,7 @@ bool RunFrames(FrameSource& source, Pipeline& pipeline, const FrameCallback& on_
     report.dropped_before = frames.front().dropped_before;
     load_ms = 0;
     frames.pop_front();
+    ++tracked;
     on_frame(report);
     if (stop()) return true;
   }
