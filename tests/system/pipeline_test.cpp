@@ -86,14 +86,17 @@ std::vector<FrameReport> RunAll(const RunConfig& config, const std::vector<RgbdF
   return reports;
 }
 
-// Labels every 4th frame, used 2 frames later, predicted masks between: frame j has those of the
-// newest 4k <= j - 2 (frame 0's labels are waited for at frame 0: the map starts there); a
-// single-thread run repeats exactly.
+// Labels every 4th frame, used from their own frame on, predicted masks between: frame j has those
+// of the newest 4k <= j; a single-thread run repeats exactly, and does not depend on how far the
+// run loop reads ahead (Semantic.lookAhead: 8 by default, 1 as on a camera).
 TEST(PipelineTest, PredictedMasksFollowTheScheduleAndRepeatInASingleThreadRun) {
   const RunConfig config = Config(4);
+  ASSERT_EQ(config.pipeline.look_ahead_frames, 8);
+  RunConfig one_ahead = config;
+  one_ahead.pipeline.look_ahead_frames = 1;
   const std::vector<RgbdFrame> frames = Frames(config);
   std::vector<StampedPose> first, second;
-  const std::vector<FrameReport> a = RunAll(config, frames, &first), b = RunAll(config, frames, &second);
+  const std::vector<FrameReport> a = RunAll(config, frames, &first), b = RunAll(one_ahead, frames, &second);
   ASSERT_EQ(a.size(), frames.size());
   for (std::size_t j = 0; j < a.size(); ++j) {
     const long expected_source = static_cast<long>(j / 4 * 4);  // labels used at their own frame
