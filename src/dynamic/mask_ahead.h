@@ -11,9 +11,9 @@
 //   order; the front end's Submit runs on the caller's thread (the front end allows those two
 //   threads). MaskFor(id) on the caller's side waits for frame id's mask (MaskAheadResult::wait_ms
 //   says how long).
-// WorkerMode::kInline (--single-thread): no thread; Submit and MaskFor call the front end on the
-//   caller's thread exactly where the pipeline called it before (Submit when the frame is
-//   submitted, MaskFor when it is tracked), so single-thread runs keep their exact results.
+// WorkerMode::kInline (--single-thread): no thread; Label calls the front end's Submit when the
+//   frame is submitted ahead and MaskFor calls its MaskFor when the frame is tracked, both on the
+//   caller's thread; Submit only records the frame.
 //
 // Errors: a failure of the front end (e.g. the network's) is kept and thrown by the next MaskFor
 // or Submit, as Error("mask stage failed: ...").
