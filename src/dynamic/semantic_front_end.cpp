@@ -175,6 +175,10 @@ SemanticMasks SemanticFrontEnd::PredictedMasks(std::int64_t id, const cv::Mat& b
     needs_labels_ = prediction.needs_labels;
   }
   out.source_id = prediction.source_id;
+  if (out.source_id < 0 && !wait_for_due_labels_) {
+    unlabelled_depths_.emplace_back(id, depth_m);
+    if (unlabelled_depths_.size() > kMaxUnlabelledFrames) unlabelled_depths_.pop_front();
+  }
   out.warped = prediction.label_age > 0;
   out.trust = prediction.trust;
   out.segment_ms = source_segment_ms_;
@@ -183,9 +187,9 @@ SemanticMasks SemanticFrontEnd::PredictedMasks(std::int64_t id, const cv::Mat& b
 }
 
 // The labels due at frame id (back, and of a frame at least L frames before it) given to the
-// predictor. The run's first labels are waited for at once (see the header): the map starts on
-// the first frames, and the people there must be masked. Afterwards a threaded run never waits;
-// a single-thread run waits for labels due and not back.
+// predictor; the run's first labels are due at once (no label delay). A threaded run never waits
+// (its first labels, coming after their frame was masked, give that frame's late mask); a
+// single-thread run waits for labels due and not back.
 void SemanticFrontEnd::AddDueLabels(std::int64_t id, DynamicMaskResult& out) {
   std::vector<SegmentedFrame> due;
   {
@@ -194,8 +198,7 @@ void SemanticFrontEnd::AddDueLabels(std::int64_t id, DynamicMaskResult& out) {
     const int delay = first_labels ? 0 : schedule_->label_delay();
     const std::optional<std::int64_t> in_flight = schedule_->in_flight();
     const bool in_flight_due = in_flight && *in_flight + delay <= id;
-    const bool ready_due = !ready_.empty() && ready_.front().id + delay <= id;
-    const bool wait = in_flight_due && (wait_for_due_labels_ || (first_labels && !ready_due));
+    const bool wait = in_flight_due && wait_for_due_labels_;
     Stopwatch wait_watch;
     RetireBackLabels(lock, wait);
     if (wait) out.wait_ms = wait_watch.ElapsedMs();
@@ -208,7 +211,22 @@ void SemanticFrontEnd::AddDueLabels(std::int64_t id, DynamicMaskResult& out) {
     if (!predictor_->AddLabels(done.id, done.result.labels)) continue;
     source_segment_ms_ = done.result.segment_ms;
     source_latency_ms_ = done.latency_ms;
+    AddLateMask(done, out);
   }
+}
+
+// The first labels of a threaded run, of a frame already masked without them: that frame's
+// refined mask, on its own depth, handed out once (see the header).
+void SemanticFrontEnd::AddLateMask(const SegmentedFrame& labelled, DynamicMaskResult& out) {
+  const auto unlabelled = std::find_if(unlabelled_depths_.begin(), unlabelled_depths_.end(),
+                                       [&](const auto& frame) { return frame.first == labelled.id; });
+  if (unlabelled != unlabelled_depths_.end()) {
+    DynamicMaskResult late;
+    Refine(groups_.Masks(labelled.result.labels), unlabelled->second, late);
+    out.late_frame = labelled.id;
+    out.late_mask = std::move(late.mask);
+  }
+  unlabelled_depths_.clear();  // the frames after these labels get them carried
 }
 
 // Region growing, core and dilation on the image reduced by refine_.scale; the mask enlarged to

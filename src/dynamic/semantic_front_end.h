@@ -14,8 +14,11 @@
 //     Semantic.lookAhead frames before its mask is made, which hides the network's latency); a
 //     threaded run takes them when they are back (never waits), a single-thread run
 //     (wait_for_due_labels) waits for them at exactly that frame, so its masks repeat exactly.
-//     The first labels of a run (frame 0's) are waited for at frame 0, once: the map and the
-//     dense map start there, and people there must be masked.
+//     A threaded run does not wait for its first labels either: the frames masked before they
+//     are back get no mask, and when they come, the refined mask of their own frame is handed
+//     out once (DynamicMaskResult::late_mask) so that what was built from that frame unmasked
+//     (the map's first keyframe, its dense integration) is corrected (system/pipeline.h). A
+//     single-thread run waits for them at their frame, as for all labels.
 // Either way the mask goes through the same refinement: dynamic mask = RefineDynamicMask(dynamic-
 // class mask, current depth) plus the class mask's interior (eroded by 3 px), dilated by
 // MaskRefineOptions::dilation_px (Dynamic.maskDilation), all of it on the image reduced by
@@ -32,6 +35,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <utility>
 
 #include <opencv2/core.hpp>
 
@@ -63,6 +67,10 @@ struct DynamicMaskResult {
   double grow_ms = 0;              // region growing alone (RefineDynamicMask)
   double grow_cpu_ms = 0;          // the same, CPU time of the calling thread
   double dynamic_fraction = 0;     // of the image area
+  // Once per threaded run, when its first labels come back: the refined dynamic mask of their
+  // own frame late_frame (earlier than this one, masked without labels). -1 / empty otherwise.
+  std::int64_t late_frame = -1;
+  cv::Mat late_mask;
 };
 
 class SemanticFrontEnd {
@@ -89,6 +97,7 @@ class SemanticFrontEnd {
 
  private:
   void AddDueLabels(std::int64_t id, DynamicMaskResult& out);
+  void AddLateMask(const SegmentedFrame& labelled, DynamicMaskResult& out);
   void RetireBackLabels(std::unique_lock<std::mutex>& lock, bool wait);
   SemanticMasks PredictedMasks(std::int64_t id, const cv::Mat& bgr, const cv::Mat& depth_m, DynamicMaskResult& out);
   void Refine(const SemanticMasks& masks, const cv::Mat& depth_m, DynamicMaskResult& out) const;
@@ -104,6 +113,10 @@ class SemanticFrontEnd {
   bool needs_labels_ = false;                    // the newest prediction asks for labels (frame 0 is scheduled)
   std::deque<SegmentedFrame> ready_;             // labels back, not yet due (oldest first)
   std::unique_ptr<MaskPredictor> predictor_;     // predicted mode, made at the first frame; MaskFor's thread
+  // MaskFor's thread, threaded predicted mode: depth (metres, shared) of the frames masked before
+  // the run's first labels came back, oldest first, at most kMaxUnlabelledFrames; cleared then.
+  static constexpr std::size_t kMaxUnlabelledFrames = 64;
+  std::deque<std::pair<std::int64_t, cv::Mat>> unlabelled_depths_;
   double source_segment_ms_ = 0, source_latency_ms_ = 0;  // of the labels in the predictor
   std::unique_ptr<SegmentationWorker> worker_;
 };

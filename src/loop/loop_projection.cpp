@@ -7,6 +7,18 @@
 #include "map/map_point.h"
 
 namespace esdslam {
+namespace {
+
+// The keyframe's keypoints found dynamic after it was made (KeyFrame::late_dynamic), as flags
+// (all false when none): never matched.
+std::vector<bool> LateDynamicKeypoints(const KeyFrame& keyframe) {
+  std::vector<bool> flags(static_cast<std::size_t>(keyframe.features().size()), false);
+  if (const auto late = keyframe.late_dynamic())
+    for (std::size_t i = 0; i < flags.size(); ++i) flags[i] = (*late)[i] != 0;
+  return flags;
+}
+
+}  // namespace
 
 int ProjectionMatch(const KeyFrame& keyframe, const Rigid3& cam_from_world, const MapPoint& point, double radius_factor,
                     const std::vector<bool>* blocked, int max_distance) {
@@ -39,8 +51,8 @@ int ProjectionMatch(const KeyFrame& keyframe, const Rigid3& cam_from_world, cons
 int SearchByProjection(const KeyFrame& keyframe, const Rigid3& cam_from_world, const std::vector<MapPoint*>& points,
                        double radius_factor, std::vector<MapPoint*>* matched) {
   const std::set<MapPoint*> already(matched->begin(), matched->end());
-  std::vector<bool> blocked(matched->size());
-  for (std::size_t i = 0; i < matched->size(); ++i) blocked[i] = (*matched)[i] != nullptr;
+  std::vector<bool> blocked = LateDynamicKeypoints(keyframe);
+  for (std::size_t i = 0; i < matched->size(); ++i) blocked[i] = blocked[i] || (*matched)[i] != nullptr;
   int added = 0;
   for (MapPoint* point : points) {
     if (point == nullptr || point->is_bad() || already.count(point)) continue;
@@ -57,9 +69,10 @@ LoopFuseResult FuseLoopPoints(KeyFrame* keyframe, const std::vector<MapPoint*>& 
   LoopFuseResult result;
   const Rigid3 cam_from_world = keyframe->cam_from_world();
   std::set<MapPoint*> replaced;  // each keyframe point is taken over at most once
+  const std::vector<bool> late_dynamic = LateDynamicKeypoints(*keyframe);
   for (MapPoint* point : loop_points) {
     if (point == nullptr || point->is_bad() || point->IsObservedBy(keyframe)) continue;
-    const int index = ProjectionMatch(*keyframe, cam_from_world, *point, radius_factor, nullptr, kDescriptorDistanceLow);
+    const int index = ProjectionMatch(*keyframe, cam_from_world, *point, radius_factor, &late_dynamic, kDescriptorDistanceLow);
     if (index < 0) continue;
     MapPoint* existing = keyframe->map_point(index);
     if (existing != nullptr && !existing->is_bad()) {

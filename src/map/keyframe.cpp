@@ -50,6 +50,19 @@ void KeyFrame::EraseMapPoint(const MapPoint* point) {
 }
 void KeyFrame::ReplaceMapPoint(int keypoint_index, MapPoint* point) { AddMapPoint(point, keypoint_index); }
 
+void KeyFrame::MarkLateDynamic(const std::vector<int>& keypoint_indices) {
+  std::lock_guard<std::mutex> lock(mutex_points_);
+  auto flags = late_dynamic_ ? std::make_shared<std::vector<std::uint8_t>>(*late_dynamic_)
+                             : std::make_shared<std::vector<std::uint8_t>>(map_points_.size(), 0);
+  for (const int i : keypoint_indices) flags->at(static_cast<std::size_t>(i)) = 1;
+  late_dynamic_ = std::move(flags);
+}
+
+std::shared_ptr<const std::vector<std::uint8_t>> KeyFrame::late_dynamic() const {
+  std::lock_guard<std::mutex> lock(mutex_points_);
+  return late_dynamic_;
+}
+
 MapPoint* KeyFrame::map_point(int keypoint_index) const {
   std::lock_guard<std::mutex> lock(mutex_points_);
   return map_points_[keypoint_index];

@@ -8,6 +8,7 @@
 // parent, children, bad) under mutex_connections_. A method never holds two of them at once and
 // never calls into another object while holding one (see docs/CORE.md).
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -47,6 +48,11 @@ class KeyFrame {
   MapPoint* map_point(int keypoint_index) const;
   std::vector<MapPoint*> map_points() const;  // includes nullptr and bad entries
   std::vector<MapPoint*> valid_map_points() const;  // non-null, not bad, in index order
+  // Keypoints found dynamic only after the keyframe was made (a dynamic mask that came late:
+  // system/pipeline.h): like FeatureSet::is_dynamic, never given a map point again. The flags
+  // are replaced as a whole (copy on write), so a reader keeps a consistent set; null when none.
+  void MarkLateDynamic(const std::vector<int>& keypoint_indices);
+  std::shared_ptr<const std::vector<std::uint8_t>> late_dynamic() const;
   // Points observed by at least `min_observations` (ORB-SLAM2 weighted count; 0 = any).
   int TrackedMapPoints(int min_observations) const;
 
@@ -101,6 +107,7 @@ class KeyFrame {
 
   mutable std::mutex mutex_points_;
   std::vector<MapPoint*> map_points_;
+  std::shared_ptr<const std::vector<std::uint8_t>> late_dynamic_;  // null, or one flag per keypoint
 
   mutable std::mutex mutex_connections_;
   std::map<KeyFrame*, int, KeyFrameIdLess> connection_weights_;
@@ -112,6 +119,12 @@ class KeyFrame {
   Rigid3 cam_from_parent_;
   bool bad_ = false;
 };
+
+// Keypoint i of a keyframe is dynamic: flagged at extraction (features.is_dynamic) or later
+// (`late`, KeyFrame::late_dynamic(); may be null).
+inline bool IsDynamicKeypoint(const FeatureSet& features, const std::vector<std::uint8_t>* late, int i) {
+  return features.is_dynamic[i] != 0 || (late != nullptr && (*late)[i] != 0);
+}
 
 // Follows the spanning tree from a (possibly culled) keyframe up to the first live one, composing
 // `cam_from_keyframe` (a pose relative to `keyframe`) with each culled keyframe's cam_from_parent.

@@ -11,9 +11,10 @@ namespace esdslam {
 namespace {
 
 // Best keypoint of `keyframe` for the point projected at (u, v, right_u) with predicted level,
-// among keypoints passing the chi2 reprojection test; -1 if none within TH_LOW.
-int BestKeypointForPoint(const KeyFrame& keyframe, const cv::Mat& descriptor, const Vec3& p_cam, int level,
-                         double radius_factor) {
+// among keypoints passing the chi2 reprojection test and not dynamic (late_dynamic: the
+// keyframe's KeyFrame::late_dynamic(), may be null); -1 if none within TH_LOW.
+int BestKeypointForPoint(const KeyFrame& keyframe, const std::vector<std::uint8_t>* late_dynamic,
+                         const cv::Mat& descriptor, const Vec3& p_cam, int level, double radius_factor) {
   const FeatureSet& features = keyframe.features();
   const RgbdRig& rig = keyframe.rig();
   const Vec2 pixel = rig.camera.Project(p_cam);
@@ -22,7 +23,7 @@ int BestKeypointForPoint(const KeyFrame& keyframe, const cv::Mat& descriptor, co
   int best = -1, best_distance = 256;
   for (int j : keyframe.FeaturesInArea(pixel.x(), pixel.y(), radius)) {
     const int keypoint_level = features.level(j);
-    if (keypoint_level < level - 1 || keypoint_level > level || features.is_dynamic[j]) continue;
+    if (keypoint_level < level - 1 || keypoint_level > level || IsDynamicKeypoint(features, late_dynamic, j)) continue;
     const double inv_sigma2 = rig.pyramid.inv_level_sigma2[keypoint_level];
     double chi2 = (pixel - features.pixel(j)).squaredNorm() * inv_sigma2;
     if (features.right_u[j] >= 0) {
@@ -43,6 +44,7 @@ int FusePointsIntoKeyFrame(KeyFrame* keyframe, const std::vector<MapPoint*>& poi
   const Rigid3 cam_from_world = keyframe->cam_from_world();
   const Vec3 center = keyframe->camera_center();
   const RgbdRig& rig = keyframe->rig();
+  const std::shared_ptr<const std::vector<std::uint8_t>> late_dynamic = keyframe->late_dynamic();
   int fused = 0;
   for (MapPoint* point : points) {
     if (point == nullptr || point->is_bad() || point->IsObservedBy(keyframe)) continue;
@@ -56,7 +58,7 @@ int FusePointsIntoKeyFrame(KeyFrame* keyframe, const std::vector<MapPoint*>& poi
     const int level = point->PredictLevel(distance, rig.pyramid.num_levels, rig.pyramid.log_scale_factor);
     const cv::Mat descriptor = point->descriptor();
     if (descriptor.empty()) continue;
-    const int best = BestKeypointForPoint(*keyframe, descriptor, p_cam, level, radius_factor);
+    const int best = BestKeypointForPoint(*keyframe, late_dynamic.get(), descriptor, p_cam, level, radius_factor);
     if (best < 0) continue;
     MapPoint* existing = keyframe->map_point(best);
     if (existing != nullptr && !existing->is_bad()) {

@@ -18,13 +18,17 @@ struct View {
   Rigid3 cam_from_world;
   Vec3 center;
   std::vector<MapPoint*> points;
+  std::shared_ptr<const std::vector<std::uint8_t>> late_dynamic;  // KeyFrame::late_dynamic()
 };
 
 View MakeView(KeyFrame* keyframe) {
-  return {keyframe, &keyframe->features(), keyframe->cam_from_world(), keyframe->camera_center(), keyframe->map_points()};
+  return {keyframe, &keyframe->features(), keyframe->cam_from_world(), keyframe->camera_center(),
+          keyframe->map_points(), keyframe->late_dynamic()};
 }
 
-bool Usable(const View& view, int i) { return view.points[i] == nullptr && !view.features->is_dynamic[i]; }
+bool Usable(const View& view, int i) {
+  return view.points[i] == nullptr && !IsDynamicKeypoint(*view.features, view.late_dynamic.get(), i);
+}
 
 // Reprojection test at the 95% chi2 level (3 DoF with depth, 2 without).
 bool ReprojectsWell(const View& view, int i, const Vec3& position_world) {

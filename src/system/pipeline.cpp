@@ -137,15 +137,42 @@ FrameReport Pipeline::Track(const RgbdFrame& frame) {
     MaskAheadResult made = masks_->MaskFor(report.index, frame.bgr, frame.depth_m);
     report.mask = std::move(made.mask);
     report.mask_wait_ms = made.wait_ms;
+    labels_seen_ = labels_seen_ || report.mask.source_id >= 0;
+    if (report.mask.late_frame >= 0) ApplyLateMask(report.mask.late_frame, report.mask.late_mask);
   }
   report.mask.mask = Union(report.mask.mask, CheckedMask(frame));
   report.track = system_->TrackRgbd(frame.bgr, frame.depth_m, frame.timestamp, report.mask.mask,
                                     GeometryExempt(report.mask));
   report.features = system_->last_frame().shared_features();
   report.keypoints = CountKeypoints(*report.features);
-  if (report.track.new_keyframe)
-    AddDenseKeyframe(frame, Union(report.mask.mask, report.geometry_mask()), report.track.keyframe);
+  if (report.track.new_keyframe) {
+    const cv::Mat dense_mask = Union(report.mask.mask, report.geometry_mask());
+    if (masks_ && !labels_seen_ && report.track.keyframe != nullptr)
+      unlabelled_keyframes_.push_back({report.index, frame, dense_mask, report.track.keyframe});
+    else
+      AddDenseKeyframe(frame, dense_mask, report.track.keyframe);
+  }
   return report;
+}
+
+// The first labels came for frame `frame_index`, which was tracked without them: the map points
+// its keyframe (if it made one) placed on the dynamic mask are removed, and the held keyframes go
+// to the dense mapper, that one with the late mask.
+void Pipeline::ApplyLateMask(std::int64_t frame_index, const cv::Mat& late_mask) {
+  for (UnlabelledKeyframe& held : unlabelled_keyframes_) {
+    if (held.index != frame_index) continue;
+    held.mask = Union(held.mask, late_mask);
+    const int removed = system_->RemovePointsUnder(held.keyframe, late_mask);
+    spdlog::info("semantic: the first labels (frame {}) came after their frame was tracked: {} map points of its "
+                 "keyframe on the dynamic mask removed",
+                 frame_index, removed);
+  }
+  ReleaseUnlabelledKeyframes();
+}
+
+void Pipeline::ReleaseUnlabelledKeyframes() {
+  for (const UnlabelledKeyframe& held : unlabelled_keyframes_) AddDenseKeyframe(held.frame, held.mask, held.keyframe);
+  unlabelled_keyframes_.clear();
 }
 
 void Pipeline::AddDenseKeyframe(const RgbdFrame& frame, const cv::Mat& mask, KeyFrame* keyframe) {
@@ -158,6 +185,7 @@ void Pipeline::StopSlam() {
   if (slam_stopped_) return;
   slam_stopped_ = true;
   if (masks_) masks_->Stop();
+  ReleaseUnlabelledKeyframes();  // no labels came: the dense map takes them as they are
   system_->Shutdown();
 }
 

@@ -22,6 +22,11 @@
 // extracted and tracked. A frame not submitted ahead is submitted by Track itself (a live caller
 // without look-ahead simply calls Track). Frames are numbered in
 // submission order (FrameReport::index); they must be tracked in that order.
+// Late labels: a threaded run does not wait for the network's first labels. A keyframe made
+// before any labels came (the map's first one) is held back from the dense mapper; when the
+// labels come, the map points it made on the people are removed (SlamSystem::RemovePointsUnder)
+// and it goes to the dense mapper with its late mask; keyframes of other unlabelled frames go
+// with their own masks then (or at StopSlam if no labels ever came).
 // Which frames the network labels is decided by frame id in the semantic stage (LabelSchedule);
 // a caller's own dynamic mask (RgbdFrame::dynamic_mask) joins the mask in step 1, and with
 // Semantic.segmenter: provided the caller's labels (RgbdFrame::labels) take the network's place.
@@ -33,6 +38,7 @@
 #include <deque>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -83,6 +89,8 @@ class Pipeline {
  private:
   void AddDenseKeyframe(const RgbdFrame& frame, const cv::Mat& mask, KeyFrame* keyframe);
   void QueueMasks(std::int64_t last_id);
+  void ApplyLateMask(std::int64_t frame_index, const cv::Mat& late_mask);
+  void ReleaseUnlabelledKeyframes();
 
   const RunConfig config_;
   std::shared_ptr<ProvidedLabels> provided_labels_;  // Semantic.segmenter: provided; else null
@@ -93,6 +101,17 @@ class Pipeline {
   std::int64_t next_id_ = 0;         // id of the next frame submitted
   std::deque<RgbdFrame> ahead_;      // the frames submitted but not tracked, oldest first (images shared)
   std::int64_t next_masked_ = 0;     // id of the next frame whose mask is queued
+  // Keyframes made before the run's first labels came (threaded runs), with their frame and the
+  // mask they were tracked with (the keyframes are the map's: never freed before it); handed to
+  // the dense mapper (if any) when the labels come.
+  struct UnlabelledKeyframe {
+    std::int64_t index;
+    RgbdFrame frame;
+    cv::Mat mask;
+    KeyFrame* keyframe;
+  };
+  std::vector<UnlabelledKeyframe> unlabelled_keyframes_;
+  bool labels_seen_ = false;   // a frame's mask had labels (source_id >= 0)
   bool slam_stopped_ = false;  // StopSlam ran: no more frames
   bool finished_ = false;
 };

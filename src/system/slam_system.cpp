@@ -1,5 +1,6 @@
 #include "system/slam_system.h"
 
+#include <algorithm>
 
 #include <spdlog/spdlog.h>
 
@@ -95,6 +96,28 @@ TrackOutcome SlamSystem::TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, d
   std::lock_guard<std::mutex> lock(records_mutex_);
   records_.push_back(record);
   return outcome;
+}
+
+int SlamSystem::RemovePointsUnder(KeyFrame* keyframe, const cv::Mat& mask) {
+  if (keyframe == nullptr || mask.empty()) return 0;
+  if (mask.type() != CV_8UC1) throw Error("RemovePointsUnder: the mask must be CV_8UC1");
+  std::lock_guard<std::mutex> lock(map_->update_mutex());
+  if (keyframe->is_bad()) return 0;
+  const FeatureSet& features = keyframe->features();
+  std::vector<int> masked;
+  int removed = 0;
+  for (int i = 0; i < features.size(); ++i) {
+    const cv::Point2f& pt = features.keypoints[i].pt;
+    const int u = std::clamp(cvRound(pt.x), 0, mask.cols - 1), v = std::clamp(cvRound(pt.y), 0, mask.rows - 1);
+    if (!mask.at<std::uint8_t>(v, u)) continue;
+    masked.push_back(i);
+    MapPoint* point = keyframe->map_point(i);
+    if (point == nullptr || point->is_bad()) continue;
+    point->SetBad();
+    ++removed;
+  }
+  keyframe->MarkLateDynamic(masked);  // local mapping and loop closing leave them alone from now on
+  return removed;
 }
 
 void SlamSystem::Shutdown() {

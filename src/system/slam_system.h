@@ -73,6 +73,12 @@ class SlamSystem {
   TrackOutcome TrackRgbd(const cv::Mat& bgr, const cv::Mat& depth_m, double timestamp,
                          const cv::Mat& dynamic_mask = cv::Mat(), const cv::Mat& geometry_exempt = cv::Mat());
 
+  // For a keyframe whose dynamic mask came only after it was made: its keypoints on `mask`
+  // (CV_8U of the image's size, nonzero = dynamic; raw pixel coordinates, as TrackRgbd's
+  // dynamic_mask) become dynamic (KeyFrame::MarkLateDynamic: never given a point again) and the
+  // live map points it observes there are removed (MapPoint::SetBad). Returns how many points;
+  // 0 for a bad keyframe or an empty mask. Under the map's update lock (tracking thread).
+  int RemovePointsUnder(KeyFrame* keyframe, const cv::Mat& mask);
   // Finishes local mapping, then loop closing (processes queued keyframes, waits for a running
   // global BA) and joins their threads. Idempotent. Throws Error when a worker failed.
   void Shutdown();

@@ -2,6 +2,8 @@
 // inline stage; a failure of the front end reaches the caller; Stop leaves unasked frames.
 #include "dynamic/mask_ahead.h"
 
+#include <condition_variable>
+#include <mutex>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -125,6 +127,70 @@ TEST(MaskAhead, StopWithFramesNotAskedForReturns) {
   stage->Stop();  // twice is harmless
   const TestFrame f = MakeFrame(2);
   EXPECT_THROW(stage->Submit(2, f.timestamp, f.bgr, f.depth_m), Error);
+}
+
+// The square segmenter, held at its first frame until Open(): the network's first labels late.
+class GatedSegmenter : public Segmenter {
+ public:
+  SegmentationResult Segment(const cv::Mat& bgr, double timestamp) override {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      opened_.wait(lock, [&] { return open_; });
+    }
+    return square_.Segment(bgr, timestamp);
+  }
+  std::string Name() const override { return "gated square"; }
+  void Open() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    open_ = true;
+    opened_.notify_all();
+  }
+
+ private:
+  SquareSegmenter square_;
+  std::mutex mutex_;
+  std::condition_variable opened_;
+  bool open_ = false;
+};
+
+// A threaded run never waits for labels, its first ones included: the frames before they come
+// get no mask, and when they come, the refined mask of their own frame (0) is handed out once,
+// on the square where it stood in frame 0. A single-thread run waits for them at frame 0.
+TEST(MaskAhead, FirstLabelsLateInAThreadedRunGiveTheirFramesMaskOnce) {
+  auto segmenter = std::make_unique<GatedSegmenter>();
+  GatedSegmenter* gate = segmenter.get();
+  SemanticSettings settings = Settings(100);
+  settings.label_delay_frames = 0;
+  MaskAhead stage(std::make_unique<SemanticFrontEnd>(std::move(segmenter), settings, RegionGrowingOptions{},
+                                                     MaskRefineOptions{}, /*wait_for_due_labels=*/false),
+                  WorkerMode::kThread);
+  const TestFrame first = MakeFrame(0);
+  stage.Submit(0, first.timestamp, first.bgr, first.depth_m);
+  const MaskAheadResult unlabelled = stage.MaskFor(0, first.bgr, first.depth_m);
+  EXPECT_EQ(unlabelled.mask.source_id, -1);
+  EXPECT_TRUE(unlabelled.mask.mask.empty());
+  EXPECT_EQ(unlabelled.mask.wait_ms, 0);
+  EXPECT_EQ(unlabelled.mask.late_frame, -1);
+  gate->Open();
+  // The labels are taken when they are back, a frame or so later (bounded, not timed).
+  int late_masks = 0, labelled_at = -1;
+  for (int i = 1; i < 400 && (labelled_at < 0 || i <= labelled_at + 3); ++i) {
+    const TestFrame f = MakeFrame(i % 20);  // the square keeps moving within the image
+    stage.Submit(i, 100.0 + i, f.bgr, f.depth_m);
+    const MaskAheadResult made = stage.MaskFor(i, f.bgr, f.depth_m);
+    EXPECT_EQ(made.mask.wait_ms, 0) << i;
+    if (made.mask.source_id >= 0 && labelled_at < 0) labelled_at = i;
+    if (made.mask.late_frame < 0) continue;
+    ++late_masks;
+    EXPECT_EQ(made.mask.late_frame, 0);
+    EXPECT_GE(made.mask.source_id, 0);  // 0's labels, or those of a frame labelled right after
+    ASSERT_EQ(made.mask.late_mask.size(), first.bgr.size());
+    EXPECT_GT(made.mask.late_mask.at<std::uint8_t>(55, 35), 0);    // frame 0's square
+    EXPECT_EQ(made.mask.late_mask.at<std::uint8_t>(55, 130), 0);   // the wall beside it
+  }
+  EXPECT_GT(labelled_at, 0);
+  EXPECT_EQ(late_masks, 1);
+  stage.Stop();
 }
 
 TEST(MaskAhead, RequiresAFrontEnd) { EXPECT_THROW(MaskAhead(nullptr, WorkerMode::kInline), Error); }

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include "eval/ate.h"
+#include "map/keyframe.h"
+#include "map/map_point.h"
 #include "synth/synthetic_scene.h"
 #include "system/slam_system.h"
 
@@ -71,6 +73,44 @@ TEST(SlamSystemTest, ThreadedModeTracksEveryFrameAndShutsDownCleanly) {
   EXPECT_EQ(tracked, kFrames);
   const AteResult ate = ComputeAte(Scene().GroundTruth(), trajectory);
   EXPECT_LT(ate.translation_m.rmse, 0.006);
+}
+
+// A keyframe's dynamic mask that came after it was made (the first labels of a threaded run):
+// the live points it observes at keypoints on the mask are removed, the others stay.
+TEST(SlamSystemTest, RemovePointsUnderALateMaskRemovesOnlyThePointsOnIt) {
+  SlamOptions options;
+  options.single_thread = true;
+  SlamSystem system(SceneSettings(), options);
+  const SynthFrame& frame = Frames().front();
+  const TrackOutcome outcome = system.TrackRgbd(frame.bgr, frame.depth_m, frame.timestamp);
+  ASSERT_TRUE(outcome.new_keyframe);
+  KeyFrame* keyframe = outcome.keyframe;
+  cv::Mat left_half = cv::Mat::zeros(frame.bgr.size(), CV_8U);
+  left_half.colRange(0, frame.bgr.cols / 2).setTo(255);
+  const auto count_points = [&](bool left) {
+    int n = 0;
+    for (int i = 0; i < keyframe->features().size(); ++i) {
+      const MapPoint* point = keyframe->map_point(i);
+      if (point == nullptr || point->is_bad()) continue;
+      n += (cvRound(keyframe->features().keypoints[i].pt.x) < frame.bgr.cols / 2) == left;
+    }
+    return n;
+  };
+  const int left_before = count_points(true), right_before = count_points(false);
+  ASSERT_GT(left_before, 50);
+  ASSERT_GT(right_before, 50);
+  EXPECT_EQ(system.RemovePointsUnder(keyframe, left_half), left_before);
+  EXPECT_EQ(count_points(true), 0);
+  EXPECT_EQ(count_points(false), right_before);
+  EXPECT_EQ(system.num_map_points(), right_before);
+  const auto late = keyframe->late_dynamic();
+  ASSERT_NE(late, nullptr);
+  for (int i = 0; i < keyframe->features().size(); ++i)
+    EXPECT_EQ((*late)[i] != 0, cvRound(keyframe->features().keypoints[i].pt.x) < frame.bgr.cols / 2) << i;
+  EXPECT_EQ(system.RemovePointsUnder(keyframe, left_half), 0);
+  EXPECT_EQ(system.RemovePointsUnder(keyframe, cv::Mat()), 0);
+  // Tracking goes on in the remaining map.
+  EXPECT_TRUE(system.TrackRgbd(Frames()[1].bgr, Frames()[1].depth_m, Frames()[1].timestamp).has_pose);
 }
 
 TEST(SlamSystemTest, RejectsMismatchedImagesAndUseAfterShutdown) {
