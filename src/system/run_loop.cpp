@@ -28,7 +28,8 @@ bool RunFrames(FrameSource& source, Pipeline& pipeline, const FrameCallback& on_
   if (stop()) return true;
   const std::size_t window = static_cast<std::size_t>(pipeline.look_ahead()) + 1;  // tracked + ahead
   // The window opens by one frame per frame tracked: at the start the network is still on frame
-  // 0 (waited for there), and frames handed to the schedule while it is busy are not labelled.
+  // 0 (its first call is its slowest), and frames handed to the schedule while it is busy are not
+  // labelled.
   std::size_t tracked = 0;
   double load_ms = 0;  // loading done during the current frame's step
   std::deque<RgbdFrame> frames;  // submitted, not tracked; oldest first
