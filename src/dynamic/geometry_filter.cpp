@@ -151,9 +151,7 @@ GeometryFilter::Flagged GeometryFilter::FlagKeypoints(const Frame& frame, const 
   const FeatureSet& features = frame.features();
   for (int i = 0; i < frame.size(); ++i) {
     if (features.is_dynamic[i]) continue;
-    const cv::Point2f& pt = features.keypoints[i].pt;
-    const int u = std::clamp(cvRound(pt.x), 0, mask.cols - 1), v = std::clamp(cvRound(pt.y), 0, mask.rows - 1);
-    if (!mask.at<std::uint8_t>(v, u)) continue;
+    if (!KeypointOnMask(features.keypoints[i], mask)) continue;
     MapPoint* point = frame.map_points[i];
     if (point != nullptr) {
       ++flagged.associations_removed;

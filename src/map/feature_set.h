@@ -4,6 +4,7 @@
 // Frame and the KeyFrame made from it. Immutable once shared (no lock is needed): only the Frame
 // that owns it alone may still mark keypoints dynamic (Frame::MarkDynamic), during its tracking step.
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -19,6 +20,14 @@ namespace esdslam {
 // FeatureSet::is_dynamic values (any nonzero value = dynamic).
 constexpr std::uint8_t kDynamicByMask = 1;      // on the dynamic mask given with the image (semantics)
 constexpr std::uint8_t kDynamicByGeometry = 2;  // found moving by the multi-view geometry check
+
+// Whether a keypoint lies on `mask` (CV_8U over the raw image, nonzero = on): the mask pixel
+// nearest its raw level-0 position, clamped to the image.
+inline bool KeypointOnMask(const cv::KeyPoint& keypoint, const cv::Mat& mask) {
+  const int u = std::clamp(cvRound(keypoint.pt.x), 0, mask.cols - 1);
+  const int v = std::clamp(cvRound(keypoint.pt.y), 0, mask.rows - 1);
+  return mask.at<std::uint8_t>(v, u) != 0;
+}
 
 struct FeatureSet {
   std::shared_ptr<const RgbdRig> rig;

@@ -1,7 +1,5 @@
 #include "system/slam_system.h"
 
-#include <algorithm>
-
 #include <spdlog/spdlog.h>
 
 #include "common/error.h"
@@ -107,9 +105,7 @@ int SlamSystem::RemovePointsUnder(KeyFrame* keyframe, const cv::Mat& mask) {
   std::vector<int> masked;
   int removed = 0;
   for (int i = 0; i < features.size(); ++i) {
-    const cv::Point2f& pt = features.keypoints[i].pt;
-    const int u = std::clamp(cvRound(pt.x), 0, mask.cols - 1), v = std::clamp(cvRound(pt.y), 0, mask.rows - 1);
-    if (!mask.at<std::uint8_t>(v, u)) continue;
+    if (!KeypointOnMask(features.keypoints[i], mask)) continue;
     masked.push_back(i);
     MapPoint* point = keyframe->map_point(i);
     if (point == nullptr || point->is_bad()) continue;

@@ -1,7 +1,5 @@
 #include "tracking/frame.h"
 
-#include <algorithm>
-
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
@@ -104,11 +102,7 @@ Frame::Frame(long id, double timestamp, const cv::Mat& image, const cv::Mat& dep
       features->depth[i] = depth;
       features->right_u[i] = static_cast<float>(features->undistorted[i].x - features->rig->bf / depth);
     }
-    if (has_mask) {
-      const int u = std::clamp(cvRound(keypoint.pt.x), 0, image.cols - 1);
-      const int v = std::clamp(cvRound(keypoint.pt.y), 0, image.rows - 1);
-      features->is_dynamic[i] = dynamic_mask.at<unsigned char>(v, u) != 0 ? kDynamicByMask : 0;
-    }
+    if (has_mask) features->is_dynamic[i] = KeypointOnMask(keypoint, dynamic_mask) ? kDynamicByMask : 0;
   }
   features->grid = MakeGrid(*features);
   features_ = std::move(features);
