@@ -2,7 +2,7 @@
 //
 //   inference_choice_bench [--model FILE:WxH]... [--crop FILE:WxH]... [--int8 FILE:WxH]... [--threads 1,2]
 //                          [--resize separable,opencv] [--resize-ab FILE:WxH]... [--layers-ab FILE:WxH]...
-//                          [--rounds N]
+//                          [--rounds N] [--profile FILE:WxH]... [--kernels-ab FILE:WxH]...
 //                          [--sequence DIR] [--labels DIR] [--step N] [--crop-lag N] [--crop-margin PX]
 //
 // For every model and OpenCV thread count: CPU time of the process per Segment() call (resize,
@@ -32,6 +32,11 @@
 // --layers-ab: the same for the grouped convolution and strided Concat layers
 // (semantic/grouped_conv_layer.h, semantic/concat_layer.h) against OpenCV's, both with the
 // separable Resize.
+// --kernels-ab: the same for the grouped convolution's portable inner loops against the ones the
+// CPU runs best (semantic/conv_kernels.h: AVX2+FMA where available).
+// --profile: the model (this project's layers, one OpenCV thread) on every frame, --rounds
+// passes: wall ms per call of each layer type and of the 15 slowest layers (OpenCV's per-layer
+// profile; fused layers show 0). Only this table is printed when given alone.
 // Defaults: the three committed models, threads 1 and 2, separable Resize, ../shared/data/bonn_crowd_dev,
 // step 10.
 #include <algorithm>
@@ -51,6 +56,7 @@
 #include "common/error.h"
 #include "common/timer.h"
 #include "io/tum_sequence.h"
+#include "semantic/conv_kernels.h"
 #include "semantic/onnx_segmenter.h"
 
 namespace esdslam::bench {
@@ -79,7 +85,7 @@ ModelSpec ParseModel(const std::string& spec) {
 }
 
 struct Args {
-  std::vector<ModelSpec> models, crops, int8, resize_ab, layers_ab;
+  std::vector<ModelSpec> models, crops, int8, resize_ab, layers_ab, profile, kernels_ab;
   std::vector<int> threads{1, 2};
   std::vector<std::string> resize{"separable"};
   std::string sequence = std::string(ESDSLAM_TEST_DATA_DIR) + "/data/bonn_crowd_dev";
@@ -88,8 +94,9 @@ struct Args {
 };
 
 std::unique_ptr<OnnxSegmenter> MakeSegmenter(const ModelSpec& model, int threads, bool separable_resize = true,
-                                             bool own_layers = true) {
+                                             bool own_layers = true, bool portable_kernels = false) {
   OnnxSegmenterOptions options;
+  options.portable_kernels = portable_kernels;
   options.separable_resize = separable_resize;
   options.own_layers = own_layers;
   options.model_path = model.path;
@@ -253,11 +260,17 @@ std::pair<double, double> MedianAndMean(std::vector<double> values) {
   return {values[values.size() / 2], sum / static_cast<double>(values.size())};
 }
 
-// A/B of OpenCV's layers (segmenter 0) against this project's (segmenter 1): the Resize layers
-// (layers = false) or the grouped convolution and strided Concat layers (layers = true).
-void ReportAb(const ModelSpec& model, const std::vector<Frame>& frames, int rounds, bool layers) {
-  std::unique_ptr<OnnxSegmenter> segmenters[2] = {MakeSegmenter(model, 1, layers, !layers),
-                                                  MakeSegmenter(model, 1, true, true)};
+// What an A/B compares: OpenCV's Resize layers against the separable one, OpenCV's grouped
+// convolution and Concat against this project's, or the grouped convolution's portable inner
+// loops against the AVX2+FMA ones.
+enum class AbKind { kResize, kLayers, kKernels };
+
+// A/B of segmenter 0 (OpenCV's layers, or the portable loops) against segmenter 1 (all of this
+// project's layers with the best loops).
+void ReportAb(const ModelSpec& model, const std::vector<Frame>& frames, int rounds, AbKind kind) {
+  std::unique_ptr<OnnxSegmenter> segmenters[2] = {
+      MakeSegmenter(model, 1, kind != AbKind::kResize, kind != AbKind::kLayers, kind == AbKind::kKernels),
+      MakeSegmenter(model, 1, true, true)};
   for (auto& segmenter : segmenters) segmenter->Segment(frames.front().bgr, 0.0);  // warm-up
   std::vector<double> cpu_ms[2];
   double differing = 0, pixels = 0;
@@ -282,13 +295,69 @@ void ReportAb(const ModelSpec& model, const std::vector<Frame>& frames, int roun
   std::fflush(stdout);
 }
 
+// Per-layer wall time of `model` over `rounds` passes over `frames` (see --profile).
+void ReportProfile(const ModelSpec& model, const std::vector<Frame>& frames, int rounds) {
+  std::unique_ptr<OnnxSegmenter> segmenter = MakeSegmenter(model, 1, true, true);
+  segmenter->Segment(frames.front().bgr, 0.0);  // warm-up
+  std::vector<OnnxSegmenter::LayerTime> sums;
+  int calls = 0;
+  double cpu_ms = 0;
+  for (int round = 0; round < rounds; ++round) {
+    for (const Frame& frame : frames) {
+      ThreadCpuStopwatch watch;
+      segmenter->Segment(frame.bgr, 0.0);
+      cpu_ms += watch.ElapsedMs();
+      const std::vector<OnnxSegmenter::LayerTime> times = segmenter->LastLayerTimes();
+      if (sums.empty()) sums = times;
+      else for (std::size_t i = 0; i < times.size() && i < sums.size(); ++i) sums[i].ms += times[i].ms;
+      ++calls;
+    }
+  }
+  std::vector<std::pair<std::string, std::pair<int, double>>> by_type;
+  double total = 0;
+  for (const auto& layer : sums) {
+    total += layer.ms;
+    const std::string type = layer.type + (layer.own ? " (own)" : "");
+    auto it = std::find_if(by_type.begin(), by_type.end(), [&](const auto& t) { return t.first == type; });
+    if (it == by_type.end()) by_type.push_back({type, {1, layer.ms}});
+    else { ++it->second.first; it->second.second += layer.ms; }
+  }
+  std::sort(by_type.begin(), by_type.end(), [](const auto& a, const auto& b) { return a.second.second > b.second.second; });
+  std::printf("%s, %d calls: CPU %.1f ms per Segment() call, layers' wall %.1f ms per call\n\n| layer type | layers | "
+              "ms per call |\n|---|---|---|\n", model.Name().c_str(), calls, cpu_ms / calls, total / calls);
+  for (const auto& [type, count_ms] : by_type)
+    std::printf("| %s | %d | %.2f |\n", type.c_str(), count_ms.first, count_ms.second / calls);
+  std::sort(sums.begin(), sums.end(), [](const auto& a, const auto& b) { return a.ms > b.ms; });
+  std::printf("\n| slowest layers | type | ms per call |\n|---|---|---|\n");
+  for (std::size_t i = 0; i < sums.size() && i < 15; ++i)
+    std::printf("| %s | %s%s | %.2f |\n", sums[i].name.c_str(), sums[i].type.c_str(), sums[i].own ? " (own)" : "",
+                sums[i].ms / calls);
+  std::fflush(stdout);
+}
+
 void Run(const Args& args) {
   const std::vector<Frame> frames = LoadFrames(args);
+  if (!args.kernels_ab.empty()) {
+    std::printf("Grouped convolution's inner loops, portable against %s, 1 thread, calls interleaved: CPU ms of the "
+                "calling thread per Segment() call\n\n| model | input | calls each | portable median | best median | "
+                "portable mean | best mean | label pixels differing |\n|---|---|---|---|---|---|---|---|\n",
+                BestConvKernels().name);
+    for (const ModelSpec& model : args.kernels_ab) ReportAb(model, frames, args.rounds, AbKind::kKernels);
+    if (args.models.empty() && args.crops.empty() && args.int8.empty() && args.layers_ab.empty() &&
+        args.resize_ab.empty() && args.profile.empty())
+      return;
+  }
+  if (!args.profile.empty()) {
+    for (const ModelSpec& model : args.profile) ReportProfile(model, frames, args.rounds);
+    if (args.models.empty() && args.crops.empty() && args.int8.empty() && args.layers_ab.empty() &&
+        args.resize_ab.empty())
+      return;
+  }
   if (!args.resize_ab.empty()) {
     std::printf("Resize layers, OpenCV's against separable, 1 thread, calls interleaved: CPU ms of the calling thread "
                 "per Segment() call\n\n| model | input | calls each | OpenCV median | separable median | OpenCV mean | "
                 "separable mean | label pixels differing |\n|---|---|---|---|---|---|---|---|\n");
-    for (const ModelSpec& model : args.resize_ab) ReportAb(model, frames, args.rounds, false);
+    for (const ModelSpec& model : args.resize_ab) ReportAb(model, frames, args.rounds, AbKind::kResize);
     if (args.models.empty() && args.crops.empty() && args.int8.empty() && args.layers_ab.empty()) return;
     std::printf("\n");
   }
@@ -296,7 +365,7 @@ void Run(const Args& args) {
     std::printf("Grouped convolution and Concat layers, OpenCV's against this project's, 1 thread, calls interleaved: "
                 "CPU ms of the calling thread per Segment() call\n\n| model | input | calls each | OpenCV median | own "
                 "median | OpenCV mean | own mean | label pixels differing |\n|---|---|---|---|---|---|---|---|\n");
-    for (const ModelSpec& model : args.layers_ab) ReportAb(model, frames, args.rounds, true);
+    for (const ModelSpec& model : args.layers_ab) ReportAb(model, frames, args.rounds, AbKind::kLayers);
     if (args.models.empty() && args.crops.empty() && args.int8.empty()) return;
     std::printf("\n");
   }
@@ -343,6 +412,8 @@ Args Parse(int argc, char** argv) {
     else if (flag == "--int8") args.int8.push_back(ParseModel(value));
     else if (flag == "--resize-ab") args.resize_ab.push_back(ParseModel(value));
     else if (flag == "--layers-ab") args.layers_ab.push_back(ParseModel(value));
+    else if (flag == "--profile") args.profile.push_back(ParseModel(value));
+    else if (flag == "--kernels-ab") args.kernels_ab.push_back(ParseModel(value));
     else if (flag == "--rounds") args.rounds = std::stoi(value);
     else if (flag == "--sequence") args.sequence = value;
     else if (flag == "--labels") args.labels = value;
@@ -365,7 +436,7 @@ Args Parse(int argc, char** argv) {
     }
   }
   if (args.models.empty() && args.crops.empty() && args.int8.empty() && args.resize_ab.empty() &&
-      args.layers_ab.empty()) {
+      args.layers_ab.empty() && args.profile.empty() && args.kernels_ab.empty()) {
     const std::string dir = std::string(ESDSLAM_SOURCE_DIR) + "/models/";
     args.models = {{dir + "espnetv2_s2.0_voc_256x192.onnx", 256, 192},
                    {dir + "espnetv2_s2.0_voc_384x288.onnx", 384, 288},

@@ -8,6 +8,7 @@
 #include <opencv2/dnn/all_layers.hpp>
 #include <opencv2/dnn/layer.hpp>
 
+#include "semantic/conv_kernels.h"
 #include "semantic/own_layer.h"
 
 namespace esdslam {
@@ -58,42 +59,25 @@ int OutputSize(int in, int pad_begin, int pad_end, int kernel, int stride, int d
 
 // out[x] += weight * in[x * stride + offset] for x in [0, out_cols) where the input index is in
 // [0, in_cols); the rest is zero padding and adds nothing.
-void AddTapRow(const float* in, int in_cols, float weight, int offset, int stride, float* out, int out_cols) {
+void AddTapRow(const ConvKernels& kernels, const float* in, int in_cols, float weight, int offset, int stride,
+               float* out, int out_cols) {
   // First x with x * stride + offset >= 0, and one past the last with it < in_cols.
   const int begin = offset >= 0 ? 0 : (-offset + stride - 1) / stride;
   const int end = std::min(out_cols, in_cols - offset <= 0 ? 0 : (in_cols - offset - 1) / stride + 1);
   if (stride == 1) {
-    const float* src = in + offset;
-    for (int x = begin; x < end; ++x) out[x] += weight * src[x];
+    if (end > begin)
+      kernels.multiply_add(in + offset + begin, weight, out + begin, static_cast<std::size_t>(end - begin));
+  } else if (stride == 2) {
+    kernels.add_stride2_tap_row(in, weight, offset, out, begin, end);
   } else {
     for (int x = begin; x < end; ++x) out[x] += weight * in[x * stride + offset];
   }
 }
 
-// sums[k] += weight * src[k] for k in [0, count).
-void MultiplyAdd(const float* src, float weight, float* sums, std::size_t count) {
-  for (std::size_t k = 0; k < count; ++k) sums[k] += weight * src[k];
-}
-
-// The 3x3 kernel in one pass: sums[k] += sum over the taps (ky, kx) of
-// taps[3 ky + kx] * src[k + ky row_step + kx col_step], for k in [0, count).
-void MultiplyAdd3x3(const float* src, std::ptrdiff_t row_step, std::ptrdiff_t col_step, const float* taps, float* sums,
-                    std::size_t count) {
-  const float* r0 = src;
-  const float* r1 = src + row_step;
-  const float* r2 = src + 2 * row_step;
-  const std::ptrdiff_t c1 = col_step, c2 = 2 * col_step;
-  const float w0 = taps[0], w1 = taps[1], w2 = taps[2], w3 = taps[3], w4 = taps[4], w5 = taps[5], w6 = taps[6],
-              w7 = taps[7], w8 = taps[8];
-  for (std::size_t k = 0; k < count; ++k)
-    sums[k] += w0 * r0[k] + w1 * r0[k + c1] + w2 * r0[k + c2] + w3 * r1[k] + w4 * r1[k + c1] + w5 * r1[k + c2] +
-               w6 * r2[k] + w7 * r2[k + c1] + w8 * r2[k + c2];
-}
-
 class GroupedConvolutionLayer final : public OwnLayer {
  public:
-  GroupedConvolutionLayer(const cv::dnn::LayerParams& params, const ConvGeometry& geometry)
-      : geometry_(geometry), groups_(params.get<int>("group")) {
+  GroupedConvolutionLayer(const cv::dnn::LayerParams& params, const ConvGeometry& geometry, const ConvKernels& kernels)
+      : kernels_(kernels), geometry_(geometry), groups_(params.get<int>("group")) {
     setParamsFrom(params);
     weights_ = blobs[0];  // [out, in / group, kh, kw], checked by GroupedConvolutionHandles
     outputs_ = weights_.size[0];
@@ -186,13 +170,13 @@ class GroupedConvolutionLayer final : public OwnLayer {
           const std::size_t count = static_cast<std::size_t>(std::min(block_rows, out_rows - y0)) *
                                     static_cast<std::size_t>(padded_cols);
           if (g.kernel_h == 3 && g.kernel_w == 3) {  // every grouped conv of ESPNetv2
-            MultiplyAdd3x3(padded.data() + first, static_cast<std::ptrdiff_t>(g.dilation_h) * padded_cols,
+            kernels_.multiply_add_3x3(padded.data() + first, static_cast<std::ptrdiff_t>(g.dilation_h) * padded_cols,
                            g.dilation_w, taps, channel_sums + first, count);
             continue;
           }
           for (int ky = 0; ky < g.kernel_h; ++ky)
             for (int kx = 0; kx < g.kernel_w; ++kx)
-              MultiplyAdd(padded.data() + first + static_cast<std::ptrdiff_t>(ky * g.dilation_h) * padded_cols +
+              kernels_.multiply_add(padded.data() + first + static_cast<std::ptrdiff_t>(ky * g.dilation_h) * padded_cols +
                               kx * g.dilation_w,
                           taps[ky * g.kernel_w + kx], channel_sums + first, count);
         }
@@ -223,12 +207,13 @@ class GroupedConvolutionLayer final : public OwnLayer {
         if (in_y < 0 || in_y >= in_rows) continue;  // a zero-padding row
         const float* in_row = in_plane + static_cast<std::ptrdiff_t>(in_y) * in_cols;
         for (int kx = 0; kx < g.kernel_w; ++kx)
-          AddTapRow(in_row, in_cols, taps[ky * g.kernel_w + kx], kx * g.dilation_w - g.pad_left, g.stride_w, out_row,
+          AddTapRow(kernels_, in_row, in_cols, taps[ky * g.kernel_w + kx], kx * g.dilation_w - g.pad_left, g.stride_w, out_row,
                     out_cols);
       }
     }
   }
 
+  const ConvKernels& kernels_;  // the inner loops' build (semantic/conv_kernels.h)
   ConvGeometry geometry_;
   int groups_;               // > 1
   int outputs_ = 0;          // output channels, a multiple of groups_
@@ -268,7 +253,13 @@ bool GroupedConvolutionHandles(const cv::dnn::LayerParams& params) { return Hand
 
 cv::Ptr<cv::dnn::Layer> CreateConvolutionLayer(cv::dnn::LayerParams& params) {
   if (const std::optional<ConvGeometry> geometry = HandledGeometry(params))
-    return cv::makePtr<GroupedConvolutionLayer>(params, *geometry);
+    return cv::makePtr<GroupedConvolutionLayer>(params, *geometry, BestConvKernels());
+  return cv::dnn::ConvolutionLayer::create(params);
+}
+
+cv::Ptr<cv::dnn::Layer> CreatePortableConvolutionLayer(cv::dnn::LayerParams& params) {
+  if (const std::optional<ConvGeometry> geometry = HandledGeometry(params))
+    return cv::makePtr<GroupedConvolutionLayer>(params, *geometry, PortableConvKernels());
   return cv::dnn::ConvolutionLayer::create(params);
 }
 

@@ -8,8 +8,8 @@
 //
 // Per output channel, the output plane starts at zero; for each of the group's input channels
 // and each kernel tap, a shifted row of the input plane times the tap's weight is added to each
-// output row (a contiguous multiply-add along the row for stride 1, which the compiler
-// vectorises); the bias is added last. Taps that fall on the zero padding are skipped, which is
+// output row (a contiguous multiply-add along the row for stride 1; the inner loops are those of
+// semantic/conv_kernels.h, AVX2+FMA where the CPU has it); the bias is added last. Taps that fall on the zero padding are skipped, which is
 // the same as adding zero. The sums are OpenCV's up to float rounding (the order of the additions
 // differs).
 //
@@ -35,6 +35,8 @@ bool GroupedConvolutionHandles(const cv::dnn::LayerParams& params);
 // OpenCV's cv::dnn::ConvolutionLayer::create(params). A cv::dnn::LayerFactory constructor:
 // registered for "Convolution" with ScopedLayerConstructor (semantic/own_layer.h).
 cv::Ptr<cv::dnn::Layer> CreateConvolutionLayer(cv::dnn::LayerParams& params);
+// The same with the portable inner loops whatever the CPU (for comparisons).
+cv::Ptr<cv::dnn::Layer> CreatePortableConvolutionLayer(cv::dnn::LayerParams& params);
 
 // True when `layer` is the grouped layer (not OpenCV's).
 bool IsGroupedConvolution(const cv::dnn::Layer& layer);

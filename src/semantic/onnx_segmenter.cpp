@@ -54,7 +54,8 @@ OnnxSegmenter::OnnxSegmenter(OnnxSegmenterOptions options) : options_(std::move(
     std::optional<ScopedLayerConstructor> separable, grouped, strided;  // released in reverse
     if (options_.separable_resize) separable.emplace("Resize", CreateResizeLayer);
     if (options_.own_layers) {
-      grouped.emplace("Convolution", CreateConvolutionLayer);
+      grouped.emplace("Convolution",
+                      options_.portable_kernels ? CreatePortableConvolutionLayer : CreateConvolutionLayer);
       strided.emplace("Concat", CreateConcatLayer);
     }
     net_ = cv::dnn::readNetFromONNX(options_.model_path);
@@ -153,6 +154,20 @@ std::vector<cv::Mat> OnnxSegmenter::Scores(const cv::Mat& bgr) {
     throw Error(fmt::format("{}: expected 1x{}x{}x{} scores from the network", options_.model_path, num_classes,
                             options_.input_height, options_.input_width));
   return planes;
+}
+
+std::vector<OnnxSegmenter::LayerTime> OnnxSegmenter::LastLayerTimes() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<double> ticks;
+  net_.getPerfProfile(ticks);
+  const std::vector<cv::String> names = net_.getLayerNames();  // ids 1..n (0 is the input)
+  std::vector<LayerTime> times;
+  const double ms_per_tick = 1e3 / cv::getTickFrequency();
+  for (std::size_t i = 0; i < ticks.size() && i < names.size(); ++i) {
+    const cv::Ptr<cv::dnn::Layer> layer = net_.getLayer(static_cast<int>(i + 1));
+    times.push_back({names[i], layer->type, dynamic_cast<const OwnLayer*>(layer.get()) != nullptr, ticks[i] * ms_per_tick});
+  }
+  return times;
 }
 
 SegmentationResult OnnxSegmenter::Segment(const cv::Mat& bgr, double /*timestamp*/) {

@@ -53,6 +53,9 @@ struct OnnxSegmenterOptions {
   // width as this project's layers (semantic/grouped_conv_layer.h, semantic/concat_layer.h);
   // false: OpenCV's (for comparisons).
   bool own_layers = true;
+  // The grouped convolution with its portable inner loops even where the CPU has AVX2+FMA
+  // (semantic/conv_kernels.h; for comparisons).
+  bool portable_kernels = false;
   // Semantic.threads: > 0 calls cv::setNumThreads(threads) when the segmenter is created. Note
   // that OpenCV's thread count is process-wide. 0 leaves OpenCV's setting untouched.
   int threads = 0;
@@ -80,6 +83,15 @@ class OnnxSegmenter : public Segmenter {
   // How many are the grouped convolution and the strided Concat (0 without own_layers).
   int grouped_convolution_layers() const { return grouped_convolution_layers_; }
   int strided_concat_layers() const { return strided_concat_layers_; }
+
+  // Time per layer of the last Scores()/Segment() call (OpenCV's cv::dnn::Net::getPerfProfile:
+  // wall ms of each layer's forward, in the net's order); for profiling benchmarks.
+  struct LayerTime {
+    std::string name, type;
+    bool own = false;  // one of this project's layers (semantic/own_layer.h)
+    double ms = 0;
+  };
+  std::vector<LayerTime> LastLayerTimes();
 
  private:
   cv::Mat MakeBlob(const cv::Mat& bgr) const;

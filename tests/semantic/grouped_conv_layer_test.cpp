@@ -52,13 +52,15 @@ cv::dnn::LayerParams ConvParams(const ConvCase& c, int seed) {
 }
 
 // A one-layer net: `blob` through a layer with `params`, made while this project's layers are
-// registered (ours) or not. `is_ours`: whether the net holds this project's layer.
-cv::Mat RunLayer(const cv::dnn::LayerParams& params, const std::vector<cv::Mat>& blobs, bool ours, bool* is_ours) {
+// registered (a non-null `convolution` constructor: CreateConvolutionLayer or its portable
+// twin, with CreateConcatLayer) or not. `is_ours`: whether the net holds this project's layer.
+cv::Mat RunLayer(const cv::dnn::LayerParams& params, const std::vector<cv::Mat>& blobs,
+                 cv::dnn::LayerFactory::Constructor convolution, bool* is_ours) {
   cv::dnn::Net net;
   {
     std::optional<ScopedLayerConstructor> grouped, strided;
-    if (ours) {
-      grouped.emplace("Convolution", CreateConvolutionLayer);
+    if (convolution != nullptr) {
+      grouped.emplace("Convolution", convolution);
       strided.emplace("Concat", CreateConcatLayer);
     }
     cv::dnn::LayerParams copy = params;
@@ -78,16 +80,21 @@ cv::Mat RunLayer(const cv::dnn::LayerParams& params, const std::vector<cv::Mat>&
   return net.forward().clone();
 }
 
-// Ours and OpenCV's on the same blobs: the same shape, values within `tolerance`.
+// Ours (with the inner loops the CPU runs best, and with the portable ones) and OpenCV's on the
+// same blobs: the same shape, values within `tolerance`.
 void ExpectSameAsOpenCv(const cv::dnn::LayerParams& params, const std::vector<cv::Mat>& blobs, double tolerance,
                         const std::string& what) {
-  bool ours = false, theirs = true;
-  const cv::Mat mine = RunLayer(params, blobs, true, &ours);
-  const cv::Mat reference = RunLayer(params, blobs, false, &theirs);
-  ASSERT_TRUE(ours) << what;
+  bool theirs = true;
+  const cv::Mat reference = RunLayer(params, blobs, nullptr, &theirs);
   ASSERT_FALSE(theirs) << what;
-  ASSERT_EQ(cv::dnn::shape(mine), cv::dnn::shape(reference)) << what;
-  EXPECT_LE(cv::norm(mine, reference, cv::NORM_INF), tolerance) << what;
+  for (cv::dnn::LayerFactory::Constructor convolution : {CreateConvolutionLayer, CreatePortableConvolutionLayer}) {
+    const std::string which = what + (convolution == CreateConvolutionLayer ? " (best loops)" : " (portable loops)");
+    bool ours = false;
+    const cv::Mat mine = RunLayer(params, blobs, convolution, &ours);
+    ASSERT_TRUE(ours) << which;
+    ASSERT_EQ(cv::dnn::shape(mine), cv::dnn::shape(reference)) << which;
+    EXPECT_LE(cv::norm(mine, reference, cv::NORM_INF), tolerance) << which;
+  }
 }
 
 // Sums of up to 8 x 9 products of values in [-1, 1): float rounding stays below 1e-5.
