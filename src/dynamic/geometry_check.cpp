@@ -103,7 +103,8 @@ PointOutcome TestPoint(const CurrentView& view, const std::vector<ReferenceKeyfr
   flag->pixel = pixel;
   flag->projected_depth_m = z_proj;
   flag->measured_depth_m = measured;
-  if (near - z_proj > tau) return PointOutcome::kVanished;
+  if (near - z_proj > tau)  // seen through only where X's own pixel has a reading (header)
+    return view.depth_m.at<float>(pixel) > 0 ? PointOutcome::kVanished : PointOutcome::kUntested;
   if (z_proj - far <= tau) return PointOutcome::kConsistent;
   if (!view.exempt.empty() && view.exempt.at<std::uint8_t>(pixel)) return PointOutcome::kExempt;
   // The occluder lies on the same viewing ray, at the measured depth.

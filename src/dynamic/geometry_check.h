@@ -9,7 +9,9 @@
 // keyframe-centre -> X and current-centre -> X above 30 deg) are skipped, since viewpoint
 // changes then cause static self-occlusions. The opposite case, z - z_proj > tau (we now see
 // through X), means X itself was on something that moved away; those points are reported
-// separately (candidates for map-point culling).
+// separately (candidates for map-point culling). Seeing through X needs a depth reading at X's
+// own pixel: where the sensor measures nothing there (dropouts on thin, dark or edge structures,
+// common while the camera turns fast) the wall beside X says nothing about X, and it is not tested.
 //
 // Threshold: tau(z) = abs_threshold_m + depth_sq_threshold * z^2 (metres); DynaSLAM uses a
 // fixed 0.4 m; depth noise and pose error both grow with depth, so we let tau grow with z^2.

@@ -166,6 +166,22 @@ TEST(GeometryCheck, VanishedPointsAreReportedNotFlagged) {
   EXPECT_EQ(result.vanished_points[0].point, 0);
 }
 
+TEST(GeometryCheck, NoMeasurementAtThePointIsNotSeeingThroughIt) {
+  // A thin static object 1 m in front of a wall whose own pixels the sensor does not measure
+  // (dropouts on thin, dark or edge structures): the wall beside it is no evidence that it left.
+  CameraIntrinsics k = SynthOptions::DefaultIntrinsics();
+  const PinholeCamera camera(k);
+  cv::Mat depth(k.height, k.width, CV_32F, cv::Scalar(3.0f));
+  cv::rectangle(depth, cv::Rect(320, 200, 1, 80), cv::Scalar(0.0f), cv::FILLED);  // no reading on the 1-px pole
+  ReferenceKeyframe keyframe;
+  keyframe.points_world = {camera.Backproject(Vec2(320, 240), 2.0)};
+  const GeometryCheckResult result =
+      CheckMultiViewGeometry(camera, Rigid3::Identity(), depth, {keyframe}, GeometryCheckOptions{});
+  EXPECT_EQ(result.num_tested, 0);
+  EXPECT_TRUE(result.vanished_points.empty());
+  EXPECT_TRUE(result.dynamic_points.empty());
+}
+
 // Depth image of a camera at (centre_x, 0, 0) looking along +z: a static board at z = 1.5 m
 // covering x < 0, a wall at z = 3 m behind it.
 cv::Mat BoardAndWallDepth(const PinholeCamera& camera, double centre_x) {
