@@ -99,12 +99,13 @@ PointOutcome TestPoint(const CurrentView& view, const std::vector<ReferenceKeyfr
   float near, far;
   if (!view.window.Range(pixel, &near, &far)) return PointOutcome::kUntested;
   const double tau = Threshold(z_proj, options);
-  const float measured = view.depth_m.at<float>(pixel) > 0 ? view.depth_m.at<float>(pixel) : far;
+  const float at_pixel = view.depth_m.at<float>(pixel);  // 0: no reading at the point's own pixel
+  const float measured = at_pixel > 0 ? at_pixel : far;
   flag->pixel = pixel;
   flag->projected_depth_m = z_proj;
   flag->measured_depth_m = measured;
   if (near - z_proj > tau)  // seen through only where X's own pixel has a reading (header)
-    return view.depth_m.at<float>(pixel) > 0 ? PointOutcome::kVanished : PointOutcome::kUntested;
+    return at_pixel > 0 ? PointOutcome::kVanished : PointOutcome::kUntested;
   if (z_proj - far <= tau) return PointOutcome::kConsistent;
   if (!view.exempt.empty() && view.exempt.at<std::uint8_t>(pixel)) return PointOutcome::kExempt;
   // The occluder lies on the same viewing ray, at the measured depth.

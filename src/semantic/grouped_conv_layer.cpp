@@ -170,15 +170,17 @@ class GroupedConvolutionLayer final : public OwnLayer {
           const std::size_t count = static_cast<std::size_t>(std::min(block_rows, out_rows - y0)) *
                                     static_cast<std::size_t>(padded_cols);
           if (g.kernel_h == 3 && g.kernel_w == 3) {  // every grouped conv of ESPNetv2
-            kernels_.multiply_add_3x3(padded.data() + first, static_cast<std::ptrdiff_t>(g.dilation_h) * padded_cols,
-                           g.dilation_w, taps, channel_sums + first, count);
+            kernels_.multiply_add_3x3(padded.data() + first,
+                                      static_cast<std::ptrdiff_t>(g.dilation_h) * padded_cols, g.dilation_w, taps,
+                                      channel_sums + first, count);
             continue;
           }
           for (int ky = 0; ky < g.kernel_h; ++ky)
             for (int kx = 0; kx < g.kernel_w; ++kx)
-              kernels_.multiply_add(padded.data() + first + static_cast<std::ptrdiff_t>(ky * g.dilation_h) * padded_cols +
-                              kx * g.dilation_w,
-                          taps[ky * g.kernel_w + kx], channel_sums + first, count);
+              kernels_.multiply_add(padded.data() + first +
+                                        static_cast<std::ptrdiff_t>(ky * g.dilation_h) * padded_cols +
+                                        kx * g.dilation_w,
+                                    taps[ky * g.kernel_w + kx], channel_sums + first, count);
         }
       }
     }
@@ -207,8 +209,8 @@ class GroupedConvolutionLayer final : public OwnLayer {
         if (in_y < 0 || in_y >= in_rows) continue;  // a zero-padding row
         const float* in_row = in_plane + static_cast<std::ptrdiff_t>(in_y) * in_cols;
         for (int kx = 0; kx < g.kernel_w; ++kx)
-          AddTapRow(kernels_, in_row, in_cols, taps[ky * g.kernel_w + kx], kx * g.dilation_w - g.pad_left, g.stride_w, out_row,
-                    out_cols);
+          AddTapRow(kernels_, in_row, in_cols, taps[ky * g.kernel_w + kx], kx * g.dilation_w - g.pad_left,
+                    g.stride_w, out_row, out_cols);
       }
     }
   }
@@ -251,16 +253,23 @@ std::optional<ConvGeometry> HandledGeometry(const cv::dnn::LayerParams& params) 
 
 bool GroupedConvolutionHandles(const cv::dnn::LayerParams& params) { return HandledGeometry(params).has_value(); }
 
-cv::Ptr<cv::dnn::Layer> CreateConvolutionLayer(cv::dnn::LayerParams& params) {
+namespace {
+
+// The grouped layer with `kernels` where it handles `params`, else OpenCV's.
+cv::Ptr<cv::dnn::Layer> CreateWithKernels(cv::dnn::LayerParams& params, const ConvKernels& kernels) {
   if (const std::optional<ConvGeometry> geometry = HandledGeometry(params))
-    return cv::makePtr<GroupedConvolutionLayer>(params, *geometry, BestConvKernels());
+    return cv::makePtr<GroupedConvolutionLayer>(params, *geometry, kernels);
   return cv::dnn::ConvolutionLayer::create(params);
 }
 
+}  // namespace
+
+cv::Ptr<cv::dnn::Layer> CreateConvolutionLayer(cv::dnn::LayerParams& params) {
+  return CreateWithKernels(params, BestConvKernels());
+}
+
 cv::Ptr<cv::dnn::Layer> CreatePortableConvolutionLayer(cv::dnn::LayerParams& params) {
-  if (const std::optional<ConvGeometry> geometry = HandledGeometry(params))
-    return cv::makePtr<GroupedConvolutionLayer>(params, *geometry, PortableConvKernels());
-  return cv::dnn::ConvolutionLayer::create(params);
+  return CreateWithKernels(params, PortableConvKernels());
 }
 
 bool IsGroupedConvolution(const cv::dnn::Layer& layer) {

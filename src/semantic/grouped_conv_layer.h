@@ -9,8 +9,8 @@
 // Per output channel, the output plane starts at zero; for each of the group's input channels
 // and each kernel tap, a shifted row of the input plane times the tap's weight is added to each
 // output row (a contiguous multiply-add along the row for stride 1; the inner loops are those of
-// semantic/conv_kernels.h, AVX2+FMA where the CPU has it); the bias is added last. Taps that fall on the zero padding are skipped, which is
-// the same as adding zero. The sums are OpenCV's up to float rounding (the order of the additions
+// semantic/conv_kernels.h, AVX2+FMA where the CPU has it); the bias is added last. Taps that
+// fall on the zero padding are skipped, which is the same as adding zero. The sums are OpenCV's up to float rounding (the order of the additions
 // differs).
 //
 // Handled (GroupedConvolutionHandles): 2-D, explicit pads (no "SAME"/"VALID" pad mode), group

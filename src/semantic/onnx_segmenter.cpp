@@ -165,7 +165,8 @@ std::vector<OnnxSegmenter::LayerTime> OnnxSegmenter::LastLayerTimes() {
   const double ms_per_tick = 1e3 / cv::getTickFrequency();
   for (std::size_t i = 0; i < ticks.size() && i < names.size(); ++i) {
     const cv::Ptr<cv::dnn::Layer> layer = net_.getLayer(static_cast<int>(i + 1));
-    times.push_back({names[i], layer->type, dynamic_cast<const OwnLayer*>(layer.get()) != nullptr, ticks[i] * ms_per_tick});
+    const bool own = dynamic_cast<const OwnLayer*>(layer.get()) != nullptr;
+    times.push_back({names[i], layer->type, own, ticks[i] * ms_per_tick});
   }
   return times;
 }
