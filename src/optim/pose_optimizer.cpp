@@ -59,6 +59,16 @@ Vec6 PriorResidual(const PosePrior& prior, const double* pose_block, Mat6* jacob
   const Quat dq = pose.rotation() * prior.cam_from_world.rotation().conjugate();
   const Vec3 rho = pose.translation() - dq * prior.cam_from_world.translation();
   const Vec3 phi = LogSO3(dq.toRotationMatrix());
+  if (!prior.sqrt_information.isZero()) {
+    Vec6 difference;
+    difference << rho, phi;
+    if (jacobian != nullptr) {
+      Mat6 tangent = Mat6::Identity();
+      tangent.block<3, 3>(0, 3) = -Skew(rho);
+      *jacobian = prior.sqrt_information * tangent;
+    }
+    return prior.sqrt_information * difference;
+  }
   const double wt = 1.0 / prior.sigma_translation_m, wr = 1.0 / prior.sigma_rotation_rad;
   Vec6 r;
   r << wt * rho, wr * phi;
@@ -179,8 +189,9 @@ void SolveRound(const PoseRound& round, int iterations, std::array<double, kPose
 int OptimizePose(const PinholeCamera& camera, double bf, const PoseOptimizerOptions& options,
                  std::vector<PoseObservation>* observations, Rigid3* cam_from_world, const PosePrior* prior) {
   options.Check();
-  if (prior != nullptr && !(prior->sigma_translation_m > 0 && prior->sigma_rotation_rad > 0))
+  if (prior != nullptr && prior->sqrt_information.isZero() && !(prior->sigma_translation_m > 0 && prior->sigma_rotation_rad > 0))
     throw Error("OptimizePose: the prior's sigmas must be positive");
+  if (prior != nullptr && !prior->sqrt_information.allFinite()) throw Error("OptimizePose: the prior's information is not finite");
   if (observations == nullptr || cam_from_world == nullptr) throw Error("OptimizePose: null output");
   const StereoIntrinsics k(camera, bf);
   std::vector<ReprojectionMeasurement> measurements;

@@ -35,10 +35,14 @@ struct PoseOptimizerOptions {
 // camera frame). Added, without a robust loss, to every round; it never makes an observation an
 // outlier. It pins the directions the observations leave weak (few inliers, all on one side of
 // the image) and barely moves the ones they constrain.
+// With a non-zero `sqrt_information` S (6x6, in the same (rho, phi) tangent) the residual is
+// S (rho, phi) instead, so its cost is (rho, phi)^T S^T S (rho, phi) / 2: a prior that holds some
+// directions firmly and leaves others free (the depth alignment's, tracking/depth_alignment.h).
 struct PosePrior {
   Rigid3 cam_from_world;
   double sigma_translation_m = 0.01;  // per axis
   double sigma_rotation_rad = 0.01;   // per axis
+  Eigen::Matrix<double, 6, 6> sqrt_information = Eigen::Matrix<double, 6, 6>::Zero();  // zero: the sigmas
 };
 
 // Optimises cam_from_world in place (initial value = input). Every observation starts as an

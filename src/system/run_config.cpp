@@ -92,6 +92,8 @@ RunConfig ResolveRunConfig(RunSettings settings, const RunFlags& flags) {
   slam.tracker.localization_only = flags.localization;
   slam.tracker.motion_prior_below_matches = config.settings.motion_prior_below_matches;
   slam.tracker.max_coasted_frames = config.settings.max_coasted_frames;
+  slam.tracker.depth_prior = config.settings.depth_prior != 0;
+  slam.tracker.depth_prior_weight = config.settings.depth_prior_weight;
   slam.loop = config.settings.loop;
   slam.geometry_check = UsesGeometryCheck(flags.mode);
   slam.geometry = config.settings.geometry;

@@ -65,6 +65,8 @@ void RunSettings::Check() const {
   CheckRange("Sequence.maxConsecutiveBadFrames", max_consecutive_bad_frames, 1, 100000, "frames");
   CheckRange("Tracking.motionPriorBelowMatches", motion_prior_below_matches, 0, 100000, "matches (0 = off)");
   CheckRange("Tracking.maxCoastedFrames", max_coasted_frames, 0, 1000, "frames (0 = off)");
+  CheckRange("Tracking.depthPrior", depth_prior, 0, 1, "(0 = off, 1 = on)");
+  CheckRange("Tracking.depthPriorWeight", depth_prior_weight, 1e-6, 1.0, "(share of an independent reading per depth sample)");
   region_growing.Check("Dynamic.grow.");
   geometry.Check();
   dense.Check();
@@ -149,6 +151,8 @@ void BindDynamicSettings(RunSettings& run, SettingsTable& table) {
   table.Add("Sequence.maxConsecutiveBadFrames", &run.max_consecutive_bad_frames);
   table.Add("Tracking.motionPriorBelowMatches", &run.motion_prior_below_matches);
   table.Add("Tracking.maxCoastedFrames", &run.max_coasted_frames);
+  table.Add("Tracking.depthPrior", &run.depth_prior);
+  table.Add("Tracking.depthPriorWeight", &run.depth_prior_weight);
   BindGrowing("Dynamic.grow.", run.region_growing, table);
   GeometryCheckOptions& g = run.geometry.check;
   table.Add("Dynamic.check.maxParallax", &g.max_parallax_deg);

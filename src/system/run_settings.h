@@ -52,6 +52,10 @@ struct RunSettings {
   // the motion prior when local-map matches are fewer, 0 = off; blind frames given the motion model's pose).
   int motion_prior_below_matches = 0;
   int max_coasted_frames = 5;
+  // Tracking.depthPrior (TrackerOptions::depth_prior): 1 = the pose optimisation gets the static
+  // depth's alignment to the previous frame as a prior (tracking/depth_alignment.h), 0 = off.
+  int depth_prior = 1;
+  double depth_prior_weight = 0.01;  // Tracking.depthPriorWeight (TrackerOptions::depth_prior_weight)
 
   void Check() const;  // throws Error
 };

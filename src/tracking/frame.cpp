@@ -72,7 +72,7 @@ void CorrectPyramidOffsets(const std::vector<double>& scale_factors, std::vector
 
 Frame::Frame(long id, double timestamp, const cv::Mat& image, const cv::Mat& depth_m, const cv::Mat& dynamic_mask,
              const OrbExtractor& extractor, std::shared_ptr<const RgbdRig> rig, const FrameOptions& options)
-    : id_(id), timestamp_(timestamp), depth_m_(depth_m) {
+    : id_(id), timestamp_(timestamp), depth_m_(depth_m), dynamic_mask_(dynamic_mask) {
   if (image.empty() || depth_m.empty()) throw Error("Frame: empty colour or depth image");
   if (depth_m.type() != CV_32FC1 || depth_m.size() != image.size())
     throw Error("Frame: depth must be CV_32F metres with the size of the colour image");

@@ -82,6 +82,9 @@ class Frame {
 
   // The depth image the frame was built from (CV_32F metres, raw pixel grid; shared, not copied).
   const cv::Mat& depth_m() const { return depth_m_; }
+  // The dynamic mask the frame was built with (CV_8U, nonzero = dynamic; shared, not copied;
+  // empty = none).
+  const cv::Mat& dynamic_mask() const { return dynamic_mask_; }
   // Flags keypoint i dynamic (reason: kDynamicByMask or kDynamicByGeometry) and drops its
   // association. Only while no keyframe shares the features yet; throws Error otherwise.
   void MarkDynamic(int i, std::uint8_t reason);
@@ -99,6 +102,7 @@ class Frame {
   std::vector<cv::Point2f> extracted_undistorted_;
   std::vector<float> extracted_depth_;  // FeatureSet::depth as extracted, same rule
   cv::Mat depth_m_;
+  cv::Mat dynamic_mask_;
 };
 
 }  // namespace esdslam

@@ -47,6 +47,8 @@ void TrackerOptions::Check() const {
   if (max_depth_points < 0) throw Error("tracker: max_depth_points must be >= 0");
   if (max_coasted_frames < 0) throw Error("tracker: max_coasted_frames must be >= 0");
   if (motion_prior_below_matches < 0) throw Error("tracker: motion_prior_below_matches must be >= 0");
+  depth_alignment.Check();
+  if (!(depth_prior_weight > 0 && depth_prior_weight <= 1)) throw Error("tracker: depth_prior_weight must be in (0, 1]");
   if (!(motion_prior_min_sigma_m > 0 && motion_prior_min_sigma_m < 1) ||
       !(motion_prior_min_sigma_rad > 0 && motion_prior_min_sigma_rad < 1))
     throw Error("tracker: motion_prior_min_sigma_m / _rad must be in (0, 1)");

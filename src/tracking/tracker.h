@@ -20,6 +20,7 @@
 #include "map/keyframe_sink.h"
 #include "map/map.h"
 #include "optim/pose_optimizer.h"
+#include "tracking/depth_alignment.h"
 #include "tracking/frame.h"
 
 namespace esdslam {
@@ -67,6 +68,14 @@ struct TrackerOptions {
   int motion_prior_below_matches = 0;
   double motion_prior_min_sigma_m = 0.002;
   double motion_prior_min_sigma_rad = 0.002;
+  // Depth prior (issue 13): local-map pose optimisation gets a Gaussian prior at the pose that
+  // aligns the frame's static depth to the previous frame's (point-to-plane,
+  // tracking/depth_alignment.h), with that alignment's information matrix times
+  // depth_prior_weight; it replaces the motion prior where both would apply. Only while tracking
+  // is OK with a motion model. Measured in docs/RESULTS.md ("Depth prior").
+  bool depth_prior = true;
+  double depth_prior_weight = 0.01;  // (0, 1]: each depth sample's share of an independent reading (see DepthPrior)
+  DepthAlignmentOptions depth_alignment;
   PoseOptimizerOptions pose;
   void Check() const;
 };
@@ -117,6 +126,7 @@ class Tracker {
   int DiscardOutliers(Frame* frame);
   bool Coast(Frame* frame);
   std::optional<PosePrior> MotionPrior(int matches) const;
+  std::optional<PosePrior> DepthPrior(const Frame& frame) const;
   void LearnPredictionError(const Frame& frame);
   void Finish(Frame* frame, bool tracked);
   // Local map (tracker_local_map.cpp).

@@ -4,6 +4,8 @@
 #include <map>
 #include <unordered_set>
 
+#include <Eigen/Eigenvalues>
+
 #include "map/keyframe.h"
 #include "map/map_point.h"
 #include "tracking/frame_matcher.h"
@@ -20,7 +22,9 @@ bool Tracker::TrackLocalMap(Frame* frame) {
   int matches = 0;
   if (prior_on)
     for (int i = 0; i < frame->size(); ++i) matches += frame->map_points[i] != nullptr;
-  const std::optional<PosePrior> prior = prior_on ? MotionPrior(matches) : std::nullopt;
+  std::optional<PosePrior> prior = prior_on ? MotionPrior(matches) : std::nullopt;
+  if (options_.depth_prior)
+    if (std::optional<PosePrior> depth = DepthPrior(*frame)) prior = depth;
   OptimizeFramePose(frame, options_.pose, prior ? &*prior : nullptr);
   inliers_ = 0;
   for (int i = 0; i < frame->size(); ++i) {
@@ -44,6 +48,25 @@ std::optional<PosePrior> Tracker::MotionPrior(int matches) const {
   prior.cam_from_world = *predicted_cam_from_world_;
   prior.sigma_translation_m = std::max(options_.motion_prior_min_sigma_m, std::sqrt(prediction_error_t2_ / 3.0));
   prior.sigma_rotation_rad = std::max(options_.motion_prior_min_sigma_rad, std::sqrt(prediction_error_r2_ / 3.0));
+  return prior;
+}
+
+// The depth alignment to the previous frame (TrackerOptions::depth_prior) as a prior with its
+// information matrix (S = sqrt(Lambda) V^T of its eigen-decomposition, so S^T S = information).
+std::optional<PosePrior> Tracker::DepthPrior(const Frame& frame) const {
+  if (!predicted_cam_from_world_ || !last_frame_.has_pose || last_frame_.depth_m().empty()) return std::nullopt;
+  const std::optional<DepthAlignment> aligned =
+      AlignDepth(frame.rig().camera, frame.depth_m(), frame.dynamic_mask(), last_frame_.depth_m(),
+                 last_frame_.dynamic_mask(), last_frame_.cam_from_world, frame.cam_from_world, options_.depth_alignment);
+  if (!aligned) return std::nullopt;
+  // The samples' errors are not independent (the sensor's depth distortion is smooth across the
+  // image, the previous frame's pose error is common to all): each counts as depth_prior_weight
+  // of an independent reading.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(aligned->information * options_.depth_prior_weight);
+  if (eigen.info() != Eigen::Success) return std::nullopt;
+  PosePrior prior;
+  prior.cam_from_world = aligned->cam_from_world;
+  prior.sqrt_information = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * eigen.eigenvectors().transpose();
   return prior;
 }
 

@@ -156,7 +156,9 @@ TEST(LoopClosingSlowTest, SyntheticCorridorLoopIsClosedAndHalvesTheAte) {
   const LoopEvent& loop = on.loops.events.front();
   EXPECT_GT(loop.timestamp, 100.0 + 0.85 * kTurnFrames / 30.0);
   EXPECT_LE(loop.loop_id, 5);
-  EXPECT_GT(loop.correction_m, 0.05);  // there was real drift to correct
+  // There was real drift to correct (3.8 cm with the depth prior, Tracking.depthPrior, which
+  // drifts less along the corridor; more than 5 cm without it).
+  EXPECT_GT(loop.correction_m, 0.025);
   // The place is mapped consistently again: the revisit repeats the first turn's poses.
   EXPECT_LE(revisit_on, 0.25 * revisit_off);
   // The target: loop closure at least halves the ATE.
