@@ -27,27 +27,6 @@ struct Sample {
   double sigma2;   // its depth noise variance, m^2
 };
 
-std::vector<Sample> StaticSamples(const PinholeCamera& camera, const cv::Mat& depth_m, const cv::Mat& mask,
-                                  const DepthAlignmentOptions& options) {
-  std::vector<cv::Point2f> raw;
-  std::vector<float> depths;
-  for (int v = options.sample_stride_px / 2; v < depth_m.rows; v += options.sample_stride_px)
-    for (int u = options.sample_stride_px / 2; u < depth_m.cols; u += options.sample_stride_px) {
-      const float z = depth_m.at<float>(v, u);
-      if (!(z >= options.min_depth_m && z <= options.max_depth_m)) continue;
-      if (!mask.empty() && mask.at<std::uint8_t>(v, u) != 0) continue;
-      raw.emplace_back(static_cast<float>(u), static_cast<float>(v));
-      depths.push_back(z);
-    }
-  const std::vector<cv::Point2f> undistorted = raw.empty() ? raw : camera.Undistort(raw);
-  std::vector<Sample> samples(raw.size());
-  for (std::size_t i = 0; i < raw.size(); ++i) {
-    const double z = depths[i], sigma = options.depth_noise_at_1m * z * z;
-    samples[i] = {camera.Backproject(Vec2(undistorted[i].x, undistorted[i].y), z), sigma * sigma};
-  }
-  return samples;
-}
-
 // The reference's static reading at the raw pixel nearest to `point_ref`'s projection, with the
 // surface normal from its 4-neighbours 2 px away (all on one surface), facing the camera.
 struct SurfaceHit {
@@ -122,31 +101,70 @@ Rigid3 ApplyLeft(const Vec6& step, const Rigid3& cam_from_world) {
 
 }  // namespace
 
-std::optional<DepthAlignment> AlignDepth(const PinholeCamera& camera, const cv::Mat& depth_m, const cv::Mat& dynamic_mask,
-                                         const cv::Mat& reference_depth_m, const cv::Mat& reference_dynamic_mask,
-                                         const Rigid3& reference_cam_from_world, const Rigid3& initial_cam_from_world,
-                                         const DepthAlignmentOptions& options) {
-  options.Check();
-  if (depth_m.type() != CV_32F || reference_depth_m.type() != CV_32F || depth_m.size() != reference_depth_m.size())
-    throw Error("depth alignment: depths must be CV_32F images of one size");
-  const std::vector<Sample> samples = StaticSamples(camera, depth_m, dynamic_mask, options);
+DepthAligner::DepthAligner(const PinholeCamera& camera, const DepthAlignmentOptions& options)
+    : camera_(camera), options_(options) {
+  options_.Check();
+  const int stride = options_.sample_stride_px, first = stride / 2;
+  const int rows = (camera.height() - first + stride - 1) / stride, cols = (camera.width() - first + stride - 1) / stride;
+  std::vector<cv::Point2f> raw;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) raw.emplace_back(static_cast<float>(first + c * stride), static_cast<float>(first + r * stride));
+  const std::vector<cv::Point2f> undistorted = camera.Undistort(raw);
+  ray_x_.create(rows, cols, CV_64F);
+  ray_y_.create(rows, cols, CV_64F);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const cv::Point2f& p = undistorted[static_cast<std::size_t>(r) * cols + c];
+      ray_x_.at<double>(r, c) = (p.x - camera.cx()) / camera.fx();
+      ray_y_.at<double>(r, c) = (p.y - camera.cy()) / camera.fy();
+    }
+}
+
+std::optional<DepthAlignment> DepthAligner::Align(const cv::Mat& depth_m, const cv::Mat& dynamic_mask,
+                                                  const cv::Mat& reference_depth_m, const cv::Mat& reference_dynamic_mask,
+                                                  const Rigid3& reference_cam_from_world,
+                                                  const Rigid3& initial_cam_from_world) const {
+  if (depth_m.type() != CV_32F || reference_depth_m.type() != CV_32F || depth_m.size() != reference_depth_m.size() ||
+      depth_m.cols != camera_.width() || depth_m.rows != camera_.height())
+    throw Error("depth alignment: depths must be CV_32F images of the camera's size");
+  // Static samples: the grid pixels with a reading in range, off the mask, in the camera frame.
+  std::vector<Sample> samples;
+  const int stride = options_.sample_stride_px, first = stride / 2;
+  for (int r = 0; r < ray_x_.rows; ++r)
+    for (int c = 0; c < ray_x_.cols; ++c) {
+      const int u = first + c * stride, v = first + r * stride;
+      const double z = depth_m.at<float>(v, u);
+      if (!(z >= options_.min_depth_m && z <= options_.max_depth_m)) continue;
+      if (!dynamic_mask.empty() && dynamic_mask.at<std::uint8_t>(v, u) != 0) continue;
+      const double sigma = options_.depth_noise_at_1m * z * z;
+      samples.push_back({Vec3(ray_x_.at<double>(r, c) * z, ray_y_.at<double>(r, c) * z, z), sigma * sigma});
+    }
   DepthAlignment result;
   result.cam_from_world = initial_cam_from_world;
-  for (int iteration = 0; iteration < options.iterations; ++iteration) {
-    const Linearisation lin = Linearise(camera, samples, reference_depth_m, reference_dynamic_mask,
-                                        reference_cam_from_world * result.cam_from_world.inverse(), options);
+  for (int iteration = 0; iteration < options_.iterations; ++iteration) {
+    const Linearisation lin = Linearise(camera_, samples, reference_depth_m, reference_dynamic_mask,
+                                        reference_cam_from_world * result.cam_from_world.inverse(), options_);
     result.information = lin.h;
     result.samples = lin.samples;
-    if (lin.samples < options.min_samples) return std::nullopt;
+    if (lin.samples < options_.min_samples) return std::nullopt;
     // Directions the surfaces leave free get no step (damped by a fraction of the largest curvature).
     Mat6 damped = lin.h;
     damped.diagonal().array() += 1e-6 * lin.h.diagonal().maxCoeff();
     const Vec6 step = damped.ldlt().solve(lin.b);
     if (!step.allFinite()) return std::nullopt;
     result.cam_from_world = ApplyLeft(step, result.cam_from_world);
-    if (step.head<3>().norm() < 1e-5 && step.tail<3>().norm() < 1e-5) break;
+    if (step.head<3>().norm() < 1e-5 && step.tail<3>().norm() < 1e-5) break;  // 10 um, 10 urad
   }
   return result;
+}
+
+std::optional<DepthAlignment> AlignDepth(const PinholeCamera& camera, const cv::Mat& depth_m, const cv::Mat& dynamic_mask,
+                                         const cv::Mat& reference_depth_m, const cv::Mat& reference_dynamic_mask,
+                                         const Rigid3& reference_cam_from_world, const Rigid3& initial_cam_from_world,
+                                         const DepthAlignmentOptions& options) {
+  return DepthAligner(camera, options)
+      .Align(depth_m, dynamic_mask, reference_depth_m, reference_dynamic_mask, reference_cam_from_world,
+             initial_cam_from_world);
 }
 
 }  // namespace esdslam

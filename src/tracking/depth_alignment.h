@@ -45,8 +45,23 @@ struct DepthAlignment {
   int samples = 0;                  // associated samples of the last iteration
 };
 
-// depth_m / reference_depth_m: CV_32F metres (0 = invalid), the camera's raw image size; masks
-// CV_8U (nonzero = dynamic) or empty. Returns nothing when too few samples associate.
+// The alignment for one camera: the sample grid's undistorted rays are computed once.
+class DepthAligner {
+ public:
+  DepthAligner(const PinholeCamera& camera, const DepthAlignmentOptions& options = {});
+  // depth_m / reference_depth_m: CV_32F metres (0 = invalid), the camera's raw image size; masks
+  // CV_8U (nonzero = dynamic) or empty. Returns nothing when too few samples associate.
+  std::optional<DepthAlignment> Align(const cv::Mat& depth_m, const cv::Mat& dynamic_mask, const cv::Mat& reference_depth_m,
+                                      const cv::Mat& reference_dynamic_mask, const Rigid3& reference_cam_from_world,
+                                      const Rigid3& initial_cam_from_world) const;
+
+ private:
+  PinholeCamera camera_;
+  DepthAlignmentOptions options_;
+  cv::Mat ray_x_, ray_y_;  // CV_64F per grid sample: undistorted (x / z, y / z)
+};
+
+// One alignment with a DepthAligner made for it (see there).
 std::optional<DepthAlignment> AlignDepth(const PinholeCamera& camera, const cv::Mat& depth_m, const cv::Mat& dynamic_mask,
                                          const cv::Mat& reference_depth_m, const cv::Mat& reference_dynamic_mask,
                                          const Rigid3& reference_cam_from_world, const Rigid3& initial_cam_from_world,

@@ -126,7 +126,7 @@ class Tracker {
   int DiscardOutliers(Frame* frame);
   bool Coast(Frame* frame);
   std::optional<PosePrior> MotionPrior(int matches) const;
-  std::optional<PosePrior> DepthPrior(const Frame& frame) const;
+  std::optional<PosePrior> DepthPrior(const Frame& frame);
   void LearnPredictionError(const Frame& frame);
   void Finish(Frame* frame, bool tracked);
   // Local map (tracker_local_map.cpp).
@@ -163,6 +163,7 @@ class Tracker {
   // The constant-velocity prediction of the frame being tracked (valid during Track when tracking
   // was OK with a velocity), and the running mean squared prediction errors (translation m^2,
   // rotation rad^2, norms over the 3 axes) of well-matched frames.
+  std::unique_ptr<DepthAligner> depth_aligner_;  // made for the first frame's camera
   std::optional<Rigid3> predicted_cam_from_world_;
   double prediction_error_t2_ = 0, prediction_error_r2_ = 0;
   int prediction_error_samples_ = 0;

@@ -53,11 +53,12 @@ std::optional<PosePrior> Tracker::MotionPrior(int matches) const {
 
 // The depth alignment to the previous frame (TrackerOptions::depth_prior) as a prior with its
 // information matrix (S = sqrt(Lambda) V^T of its eigen-decomposition, so S^T S = information).
-std::optional<PosePrior> Tracker::DepthPrior(const Frame& frame) const {
+std::optional<PosePrior> Tracker::DepthPrior(const Frame& frame) {
   if (!predicted_cam_from_world_ || !last_frame_.has_pose || last_frame_.depth_m().empty()) return std::nullopt;
+  if (!depth_aligner_) depth_aligner_ = std::make_unique<DepthAligner>(frame.rig().camera, options_.depth_alignment);
   const std::optional<DepthAlignment> aligned =
-      AlignDepth(frame.rig().camera, frame.depth_m(), frame.dynamic_mask(), last_frame_.depth_m(),
-                 last_frame_.dynamic_mask(), last_frame_.cam_from_world, frame.cam_from_world, options_.depth_alignment);
+      depth_aligner_->Align(frame.depth_m(), frame.dynamic_mask(), last_frame_.depth_m(), last_frame_.dynamic_mask(),
+                            last_frame_.cam_from_world, frame.cam_from_world);
   if (!aligned) return std::nullopt;
   // The samples' errors are not independent (the sensor's depth distortion is smooth across the
   // image, the previous frame's pose error is common to all): each counts as depth_prior_weight
