@@ -160,10 +160,10 @@ class Tracker {
   long last_relocalization_frame_id_ = -1;  // -1: none
   int inliers_ = 0;
   int coasted_frames_ = 0;  // blind frames in a row given the motion model's pose (Coast)
+  std::unique_ptr<DepthAligner> depth_aligner_;  // the depth prior's, made for the first frame's camera
   // The constant-velocity prediction of the frame being tracked (valid during Track when tracking
   // was OK with a velocity), and the running mean squared prediction errors (translation m^2,
   // rotation rad^2, norms over the 3 axes) of well-matched frames.
-  std::unique_ptr<DepthAligner> depth_aligner_;  // made for the first frame's camera
   std::optional<Rigid3> predicted_cam_from_world_;
   double prediction_error_t2_ = 0, prediction_error_r2_ = 0;
   int prediction_error_samples_ = 0;
