@@ -6,18 +6,12 @@
 #include <gtest/gtest.h>
 
 #include "common/error.h"
+#include "optim/optim_test_scene.h"
 
 namespace esdslam {
 namespace {
 
-PinholeCamera Camera() {
-  CameraIntrinsics intrinsics;
-  intrinsics.fx = 525.0;
-  intrinsics.fy = 525.0;
-  intrinsics.cx = 319.5;
-  intrinsics.cy = 239.5;
-  return PinholeCamera(intrinsics);
-}
+PinholeCamera Camera() { return test::TumLikeCamera(); }
 
 // A plane n . x = offset in the world frame.
 struct Plane {
